@@ -1,0 +1,18 @@
+//! Shapes, mass properties and contact queries. This is the only module that
+//! sees parry: everything it returns is in nalgebra `f64` types and nudge's
+//! own structs, so parry can be upgraded (or replaced) here alone.
+//!
+//! A [`Geometry`] is a compound of convex [`Part`]s placed in the owner's
+//! frame (a body's centre-of-mass frame, or an obstacle's frame). Queries
+//! return a [`Contact`] whose `normal` points from the second owner (`b`)
+//! towards the first (`a`), with `distance > 0` when apart and `< 0` in
+//! penetration, and a [`FeaturePair`] naming the touching features so the
+//! tangent code can model how the contact point and normal move.
+
+mod contact;
+mod feature;
+mod shapes;
+
+pub use contact::{Contact, contact, point_parabola};
+pub use feature::{FeaturePair, SideFeature};
+pub use shapes::{Geometry, GeometryError, MassProps, Part, PartKind};

@@ -1,0 +1,242 @@
+use super::shapes::{Geometry, Part, PartKind};
+use crate::math::Vec3;
+use nalgebra::{Isometry3, Point3};
+use parry3d_f64::query;
+
+/// The closest approach of two geometries.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    /// Signed distance, m: `> 0` apart, `< 0` penetrating.
+    pub distance: f64,
+    /// Unit normal in world space pointing from `b` towards `a`.
+    pub normal: Vec3,
+    /// Witness point on `a`'s surface, world space.
+    pub point_a: Vec3,
+    /// Witness point on `b`'s surface, world space.
+    pub point_b: Vec3,
+    /// Index of the touching part of `a`.
+    pub part_a: usize,
+    /// Index of the touching part of `b`.
+    pub part_b: usize,
+}
+
+impl Contact {
+    fn flipped(self) -> Contact {
+        Contact {
+            distance: self.distance,
+            normal: -self.normal,
+            point_a: self.point_b,
+            point_b: self.point_a,
+            part_a: self.part_b,
+            part_b: self.part_a,
+        }
+    }
+}
+
+/// Closest point on the parabola `z = −κ x²` (parabola frame) to `(x, z)`:
+/// returns the foot parameter `s` (the foot is `(s, −κ s²)`).
+/// Solves `2κ² s³ + (1 + 2κ z) s − x = 0` by safeguarded Newton iteration.
+pub fn point_parabola(curvature: f64, x: f64, z: f64) -> f64 {
+    let k = curvature;
+    let g = |s: f64| 2.0 * k * k * s * s * s + (1.0 + 2.0 * k * z) * s - x;
+    let dg = |s: f64| 6.0 * k * k * s * s + 1.0 + 2.0 * k * z;
+    // The foot lies between 0 and x (|s| ≤ |x|) for points above the vertex
+    // region; bracket and use Newton with bisection fallback.
+    let (mut lo, mut hi) = if x >= 0.0 { (0.0, x.max(1e-300)) } else { (x, 0.0) };
+    // Widen the bracket if needed (points far below the surface).
+    let mut width = 1.0_f64.max(x.abs());
+    while g(lo) > 0.0 {
+        lo -= width;
+        width *= 2.0;
+    }
+    while g(hi) < 0.0 {
+        hi += width;
+        width *= 2.0;
+    }
+    let mut s = x.clamp(lo, hi);
+    for _ in 0..200 {
+        let gs = g(s);
+        if gs == 0.0 {
+            break;
+        }
+        if gs < 0.0 {
+            lo = s;
+        } else {
+            hi = s;
+        }
+        let d = dg(s);
+        let mut next = s - gs / d;
+        if !(next > lo && next < hi) || !next.is_finite() {
+            next = 0.5 * (lo + hi);
+        }
+        if (next - s).abs() <= 1e-15 * (1.0 + s.abs()) {
+            s = next;
+            break;
+        }
+        s = next;
+    }
+    s
+}
+
+fn to_point(v: &Vec3) -> Point3<f64> {
+    Point3::from(*v)
+}
+
+/// Signed distance from a world point to a parabola part placed at `pose`.
+fn parabola_point(pose: &Isometry3<f64>, curvature: f64, p: &Vec3) -> (f64, Vec3, Vec3) {
+    let local = pose.inverse_transform_point(&to_point(p)).coords;
+    let s = point_parabola(curvature, local.x, local.z);
+    let foot = Vec3::new(s, local.y, -curvature * s * s);
+    let d = local - foot;
+    let above = local.z >= -curvature * local.x * local.x;
+    let dist = d.norm();
+    let n_local = if dist > 1e-300 {
+        d / dist * if above { 1.0 } else { -1.0 }
+    } else {
+        Vec3::new(2.0 * curvature * s, 0.0, 1.0).normalize()
+    };
+    let sign = if above { 1.0 } else { -1.0 };
+    (sign * dist, pose.rotation * n_local, (pose * to_point(&foot)).coords)
+}
+
+/// Contact between a bounded part `pa` (at `pose_a`) and a parabola part.
+fn against_parabola(pa: &Part, pose_a: &Isometry3<f64>, pose_b: &Isometry3<f64>, curvature: f64) -> Option<(f64, Vec3, Vec3, Vec3)> {
+    match &pa.kind {
+        PartKind::Ball { radius } => {
+            let c = (pose_a * to_point(&Vec3::zeros())).coords;
+            let (d, n, foot) = parabola_point(pose_b, curvature, &c);
+            Some((d - radius, n, c - n * *radius, foot))
+        }
+        PartKind::Convex { vertices, .. } => vertices
+            .iter()
+            .map(|v| {
+                let p = (pose_a * to_point(v)).coords;
+                let (d, n, foot) = parabola_point(pose_b, curvature, &p);
+                (d, n, p, foot)
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0)),
+        _ => None,
+    }
+}
+
+/// Contact of one part pair; `None` if farther apart than `max_distance`
+/// or if the pair is unsupported (two unbounded parts).
+fn part_contact(pa: &Part, pose_a: &Isometry3<f64>, pb: &Part, pose_b: &Isometry3<f64>, max_distance: f64) -> Option<Contact> {
+    let wa = pose_a * pa.offset;
+    let wb = pose_b * pb.offset;
+    match (&pa.kind, &pb.kind) {
+        (_, PartKind::Parabola { curvature, .. }) => {
+            let (d, n, p_a, p_b) = against_parabola(pa, &wa, &wb, *curvature)?;
+            (d <= max_distance).then_some(Contact { distance: d, normal: n, point_a: p_a, point_b: p_b, part_a: 0, part_b: 0 })
+        }
+        (PartKind::Parabola { .. }, _) => part_contact(pb, pose_b, pa, pose_a, max_distance).map(Contact::flipped),
+        (PartKind::HalfSpace { .. }, PartKind::HalfSpace { .. }) => None,
+        // parry returns a wrong distance and witness points when a half-space
+        // is the *second* shape (seen in 0.25 through 0.31): always pass it first.
+        (_, PartKind::HalfSpace { .. }) => {
+            let sa = pa.shape.as_ref()?;
+            let sb = pb.shape.as_ref()?;
+            let c = query::contact(&wb, sb.as_ref(), &wa, sa.as_ref(), max_distance).ok()??;
+            // Shape 1 is b (the half-space): normal1 points from b towards a.
+            Some(Contact {
+                distance: c.dist,
+                normal: c.normal1.into_inner(),
+                point_a: c.point2.coords,
+                point_b: c.point1.coords,
+                part_a: 0,
+                part_b: 0,
+            })
+        }
+        (PartKind::HalfSpace { .. }, _) => part_contact(pb, pose_b, pa, pose_a, max_distance).map(Contact::flipped),
+        _ => {
+            let sa = pa.shape.as_ref()?;
+            let sb = pb.shape.as_ref()?;
+            let c = query::contact(&wa, sa.as_ref(), &wb, sb.as_ref(), max_distance).ok()??;
+            Some(Contact {
+                distance: c.dist,
+                normal: -c.normal1.into_inner(),
+                point_a: c.point1.coords,
+                point_b: c.point2.coords,
+                part_a: 0,
+                part_b: 0,
+            })
+        }
+    }
+}
+
+/// The closest contact between two geometries placed at `pose_a` and
+/// `pose_b`, or `None` when every part pair is farther apart than
+/// `max_distance` (m). Compounds are searched part by part.
+pub fn contact(a: &Geometry, pose_a: &Isometry3<f64>, b: &Geometry, pose_b: &Isometry3<f64>, max_distance: f64) -> Option<Contact> {
+    let mut best: Option<Contact> = None;
+    for (ia, pa) in a.parts.iter().enumerate() {
+        for (ib, pb) in b.parts.iter().enumerate() {
+            if let Some(mut c) = part_contact(pa, pose_a, pb, pose_b, max_distance) {
+                if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
+                    continue;
+                }
+                c.part_a = ia;
+                c.part_b = ib;
+                if best.is_none_or(|b| c.distance < b.distance) {
+                    best = Some(c);
+                }
+            }
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Translation3, UnitQuaternion};
+
+    fn at(x: f64, y: f64, z: f64) -> Isometry3<f64> {
+        Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::identity())
+    }
+
+    /// parry's `query::contact` reported −2.5 for a unit ball 1.5 above the
+    /// ground when the half-space was passed second; nudge passes it first.
+    #[test]
+    fn regression_halfspace_second_reports_wrong_distance() {
+        let ball = Geometry::sphere(1.0).unwrap();
+        let ground = Geometry::half_space(Vec3::z()).unwrap();
+        let c = contact(&ball, &at(0.0, 0.0, 2.5), &ground, &Isometry3::identity(), 10.0).unwrap();
+        assert!((c.distance - 1.5).abs() < 1e-12, "distance {}", c.distance);
+        assert!((c.normal - Vec3::z()).norm() < 1e-12, "normal points from ground to ball");
+        assert!((c.point_a - Vec3::new(0.0, 0.0, 1.5)).norm() < 1e-12);
+        assert!(c.point_b.z.abs() < 1e-12);
+        // And the reverse order gives the flipped result.
+        let r = contact(&ground, &Isometry3::identity(), &ball, &at(0.0, 0.0, 2.5), 10.0).unwrap();
+        assert!((r.distance - 1.5).abs() < 1e-12);
+        assert!((r.normal + Vec3::z()).norm() < 1e-12);
+    }
+
+    /// DESIGN §4: with `a` as parry's shape 1, `n = −normal1` points from b to a.
+    #[test]
+    fn normal_points_from_b_towards_a_for_two_balls() {
+        let ball = Geometry::sphere(0.5).unwrap();
+        let c = contact(&ball, &at(2.0, 0.0, 0.0), &ball, &at(0.0, 0.0, 0.0), 10.0).unwrap();
+        assert!((c.distance - 1.0).abs() < 1e-12);
+        assert!((c.normal - Vec3::x()).norm() < 1e-12);
+        assert!((c.point_a - Vec3::new(1.5, 0.0, 0.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn parabola_foot_is_the_closest_point() {
+        let k = 0.7;
+        for (x, z) in [(0.3, 1.0), (-1.2, 0.4), (2.0, -5.0), (0.0, 2.0)] {
+            let s = point_parabola(k, x, z);
+            let d = |t: f64| (x - t).powi(2) + (z + k * t * t).powi(2);
+            for t in [s - 1e-4, s + 1e-4] {
+                assert!(d(t) >= d(s) - 1e-15, "({x},{z}) foot {s}");
+            }
+        }
+    }
+
+    #[test]
+    fn far_pairs_return_none() {
+        let ball = Geometry::sphere(0.5).unwrap();
+        assert!(contact(&ball, &at(5.0, 0.0, 0.0), &ball, &at(0.0, 0.0, 0.0), 1.0).is_none());
+    }
+}

@@ -1,0 +1,12 @@
+//! nudge: interactive manipulation of rigid-body simulations in the terminal
+//! (Popović, Seitz, Erdmann, Popović, Witkin, SIGGRAPH 2000).
+//!
+//! Data flows one way (DESIGN §9):
+//! scene file → [`scene`] → [`sim`] (trajectory and tangents) → [`solve`]
+//! (constraints, least-norm update) ← [`edit`] ← keys; rendering ([`view`],
+//! `tui`) reads snapshots and never runs the simulator.
+
+pub mod geometry;
+pub mod math;
+pub mod scene;
+pub mod view;

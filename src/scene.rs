@@ -1,0 +1,13 @@
+//! Scenes: the validated in-memory model the simulator consumes
+//! ([`Scene`]), and the TOML file format it is loaded from and saved to.
+//!
+//! Units are SI throughout: metres, seconds, kilograms, radians.
+
+mod format;
+mod model;
+
+pub use format::{SceneError, load, load_str, save, to_toml};
+pub use model::{
+    Accuracy, Block, Body, ConstraintSpec, Effect, Effects, EventControl, Method, Obstacle, Scales,
+    Scene, StateQuantity,
+};

@@ -1,0 +1,395 @@
+use crate::geometry::Geometry;
+use crate::math::{Mat3, Vec3};
+use nalgebra::{Isometry3, UnitQuaternion};
+use serde::{Deserialize, Serialize};
+
+/// A physical effect a scene may call for. Effects not listed are never
+/// evaluated by the simulator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Effect {
+    /// Uniform gravity `v̇ = g`.
+    Gravity,
+    /// Linear drag `v̇ += −c v / m`.
+    Drag,
+    /// The gyroscopic term of Euler's equations for non-isotropic bodies.
+    Gyroscopic,
+    /// Collision events and impulses (body–obstacle, and the body pairs listed).
+    Collisions,
+    /// Coulomb friction at impacts.
+    Friction,
+}
+
+impl Effect {
+    /// All effects, in report order.
+    pub const ALL: [Effect; 5] = [Effect::Gravity, Effect::Drag, Effect::Gyroscopic, Effect::Collisions, Effect::Friction];
+
+    /// The name used in scene files and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Effect::Gravity => "gravity",
+            Effect::Drag => "drag",
+            Effect::Gyroscopic => "gyroscopic",
+            Effect::Collisions => "collisions",
+            Effect::Friction => "friction",
+        }
+    }
+}
+
+/// Which effects a scene calls for.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Effects {
+    pub gravity: bool,
+    pub drag: bool,
+    pub gyroscopic: bool,
+    pub collisions: bool,
+    pub friction: bool,
+}
+
+impl Effects {
+    /// Whether `e` is listed.
+    pub fn has(&self, e: Effect) -> bool {
+        match e {
+            Effect::Gravity => self.gravity,
+            Effect::Drag => self.drag,
+            Effect::Gyroscopic => self.gyroscopic,
+            Effect::Collisions => self.collisions,
+            Effect::Friction => self.friction,
+        }
+    }
+
+    /// Turn `e` on or off.
+    pub fn set(&mut self, e: Effect, on: bool) {
+        match e {
+            Effect::Gravity => self.gravity = on,
+            Effect::Drag => self.drag = on,
+            Effect::Gyroscopic => self.gyroscopic = on,
+            Effect::Collisions => self.collisions = on,
+            Effect::Friction => self.friction = on,
+        }
+    }
+
+    /// The listed effects in report order.
+    pub fn listed(&self) -> Vec<Effect> {
+        Effect::ALL.into_iter().filter(|e| self.has(*e)).collect()
+    }
+}
+
+/// Integration method for the rotation of non-isotropic bodies.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Method {
+    /// Classical fixed-step Runge–Kutta 4 (Munthe-Kaas form on SO(3)), step in s.
+    Rk4 { step: f64 },
+    /// Dormand–Prince 5(4) with dense output, relative/absolute tolerance and
+    /// the largest step it may take (s).
+    Adaptive { tol: f64, max_step: f64 },
+}
+
+/// Accuracy settings: the integrator and the collision root tolerance.
+/// Tighter settings are more accurate and cost more time (`nudge bench`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Accuracy {
+    pub method: Method,
+    /// Collision times are refined until the signed distance is below this (m).
+    pub root_tol: f64,
+}
+
+impl Default for Accuracy {
+    fn default() -> Self {
+        Accuracy { method: Method::Rk4 { step: 1e-3 }, root_tol: 1e-12 }
+    }
+}
+
+impl Accuracy {
+    /// The event-search window and integration step the simulator starts with (s).
+    pub fn window(&self) -> f64 {
+        match self.method {
+            Method::Rk4 { step } => step,
+            Method::Adaptive { max_step, .. } => max_step,
+        }
+    }
+
+    /// A short human label, e.g. `rk4 h=1e-3` or `dopri5 tol=1e-9`.
+    pub fn label(&self) -> String {
+        match self.method {
+            Method::Rk4 { step } => format!("rk4 h={step:.0e}"),
+            Method::Adaptive { tol, .. } => format!("dopri5 tol={tol:.0e}"),
+        }
+    }
+}
+
+/// A block of the control vector belonging to a body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Block {
+    Position,
+    Orientation,
+    Velocity,
+    AngularVelocity,
+    Mass,
+    Inertia,
+}
+
+impl Block {
+    /// All body blocks in control-vector order.
+    pub const ALL: [Block; 6] = [Block::Position, Block::Orientation, Block::Velocity, Block::AngularVelocity, Block::Mass, Block::Inertia];
+
+    /// The name used in scene files and control names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Block::Position => "position",
+            Block::Orientation => "orientation",
+            Block::Velocity => "velocity",
+            Block::AngularVelocity => "angular_velocity",
+            Block::Mass => "mass",
+            Block::Inertia => "inertia",
+        }
+    }
+
+    /// Number of entries in the block.
+    pub fn len(self) -> usize {
+        match self {
+            Block::Mass => 1,
+            _ => 3,
+        }
+    }
+
+    /// Parse a block name.
+    pub fn parse(s: &str) -> Option<Block> {
+        Block::ALL.into_iter().find(|b| b.name() == s)
+    }
+}
+
+/// A rigid body: geometry in its centre-of-mass frame, physical parameters
+/// and its initial state (the control vector is read from and written to
+/// these fields).
+#[derive(Debug, Clone)]
+pub struct Body {
+    pub name: String,
+    /// Geometry in the body frame, whose origin is the centre of mass.
+    pub geometry: Geometry,
+    /// What the scene file said about the shape (written back on save).
+    pub shape_source: toml::Value,
+    /// Centre of mass in the shape's own frame (the file's frame), m.
+    pub com_offset: Vec3,
+    /// kg.
+    pub mass: f64,
+    /// Principal moments of inertia, kg·m².
+    pub inertia: Vec3,
+    /// Principal axes in the body frame.
+    pub inertia_axes: UnitQuaternion<f64>,
+    /// Whether the file gave the inertia explicitly (saved back if so).
+    pub inertia_given: bool,
+    /// Initial centre-of-mass position, m.
+    pub position: Vec3,
+    /// Initial orientation as an exponential-map vector, rad (|r| ≤ π).
+    pub orientation: Vec3,
+    /// Initial linear velocity, m/s.
+    pub velocity: Vec3,
+    /// Initial angular velocity (world frame), rad/s.
+    pub angular_velocity: Vec3,
+    /// Coefficient of restitution in [0, 1].
+    pub restitution: f64,
+    /// Coulomb friction coefficient ≥ 0 (used only with the `friction` effect).
+    pub friction: f64,
+    /// Linear drag coefficient `c` ≥ 0, kg/s (used only with the `drag` effect).
+    pub drag: f64,
+    /// Body-frame points (relative to the centre of mass) whose paths are traced.
+    pub traced: Vec<Vec3>,
+    /// Which control blocks are free.
+    pub free: Vec<Block>,
+}
+
+impl Body {
+    /// Inertia tensor in the body frame.
+    pub fn inertia_tensor(&self) -> Mat3 {
+        let q = self.inertia_axes.to_rotation_matrix();
+        q.matrix() * Mat3::from_diagonal(&self.inertia) * q.matrix().transpose()
+    }
+
+    /// Whether the inertia is isotropic (the gyroscopic term vanishes).
+    pub fn isotropic(&self) -> bool {
+        let i = self.inertia;
+        let max = i.max();
+        (i.x - i.y).abs() <= 1e-12 * max && (i.y - i.z).abs() <= 1e-12 * max
+    }
+
+    /// Whether `block` is free.
+    pub fn is_free(&self, block: Block) -> bool {
+        self.free.contains(&block)
+    }
+}
+
+/// A static obstacle.
+#[derive(Debug, Clone)]
+pub struct Obstacle {
+    pub name: String,
+    pub geometry: Geometry,
+    pub shape_source: toml::Value,
+    /// Pose of the obstacle frame in the world.
+    pub pose: Isometry3<f64>,
+    /// Coefficient of restitution in [0, 1] (multiplies the body's).
+    pub restitution: f64,
+    /// Coulomb friction coefficient ≥ 0.
+    pub friction: f64,
+}
+
+/// Controls attached to the k-th collision event of the motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EventControl {
+    /// Global event index (0-based, in time order).
+    pub event: usize,
+    /// Normal deviation `(a, b)` in the tangent plane of the geometric
+    /// normal, when controlled: `n = normalize(n_geom + a t₁ + b t₂)`.
+    pub normal: Option<[f64; 2]>,
+    /// Restitution used at this event instead of the bodies', when controlled.
+    pub restitution: Option<f64>,
+}
+
+/// Scales (the diagonal of `M`) per kind of control: larger means "change
+/// this less". Favour position over velocity by giving velocity a larger scale.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scales {
+    pub position: f64,
+    pub orientation: f64,
+    pub velocity: f64,
+    pub angular_velocity: f64,
+    pub mass: f64,
+    pub inertia: f64,
+    pub normal: f64,
+    pub restitution: f64,
+}
+
+impl Default for Scales {
+    fn default() -> Self {
+        Scales {
+            position: 1.0,
+            orientation: 1.0,
+            velocity: 1.0,
+            angular_velocity: 1.0,
+            mass: 1.0,
+            inertia: 1.0,
+            normal: 1.0,
+            restitution: 1.0,
+        }
+    }
+}
+
+impl Scales {
+    /// The scale of a body block.
+    pub fn of(&self, b: Block) -> f64 {
+        match b {
+            Block::Position => self.position,
+            Block::Orientation => self.orientation,
+            Block::Velocity => self.velocity,
+            Block::AngularVelocity => self.angular_velocity,
+            Block::Mass => self.mass,
+            Block::Inertia => self.inertia,
+        }
+    }
+}
+
+/// A quantity of a body's state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StateQuantity {
+    Position,
+    Orientation,
+    Velocity,
+    AngularVelocity,
+}
+
+impl StateQuantity {
+    pub const ALL: [StateQuantity; 4] = [StateQuantity::Position, StateQuantity::Orientation, StateQuantity::Velocity, StateQuantity::AngularVelocity];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            StateQuantity::Position => "position",
+            StateQuantity::Orientation => "orientation",
+            StateQuantity::Velocity => "velocity",
+            StateQuantity::AngularVelocity => "angular_velocity",
+        }
+    }
+
+    /// Row offset of the quantity in a body's 12-row tangent.
+    pub fn row(self) -> usize {
+        match self {
+            StateQuantity::Position => 0,
+            StateQuantity::Orientation => 3,
+            StateQuantity::Velocity => 6,
+            StateQuantity::AngularVelocity => 9,
+        }
+    }
+}
+
+/// A saved constraint (the editing layer turns these into residual rows).
+/// Stored as plain data so scenes round-trip through TOML.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ConstraintSpec {
+    /// `nail`, `floating`, or an expression kind (`equal_speed`,
+    /// `angular_speed`, `point_on_plane`, `distance`).
+    pub kind: String,
+    /// The body (by name).
+    pub body: String,
+    /// Second body for two-body expressions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub other: Option<String>,
+    /// Fixed time (s) for nails and timed expressions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
+    /// k-th collision of the body (0-based) for floating constraints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collision: Option<usize>,
+    /// `pre` or `post` impulse for floating constraints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side: Option<String>,
+    /// The constrained quantities of a nail/floating constraint.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub quantities: Vec<StateQuantity>,
+    /// Target values: 3 per quantity (orientation as an exp-map vector), or
+    /// the expression's parameters.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub target: Vec<f64>,
+}
+
+/// A validated scene.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Short name (defaults to the file stem).
+    pub name: String,
+    /// Free text describing the scene and its intended edit.
+    pub notes: String,
+    /// Simulated time span, s.
+    pub duration: f64,
+    /// Gravity vector, m/s² (used only with the `gravity` effect).
+    pub gravity: Vec3,
+    pub effects: Effects,
+    pub accuracy: Accuracy,
+    /// A bounce whose separating speed falls below this (m/s) ends with the
+    /// body at rest (no Zeno loop).
+    pub rest_speed: f64,
+    pub bodies: Vec<Body>,
+    pub obstacles: Vec<Obstacle>,
+    /// Body pairs (indices, `i < j`) that collide with each other.
+    pub pairs: Vec<[usize; 2]>,
+    pub scales: Scales,
+    pub event_controls: Vec<EventControl>,
+    pub constraints: Vec<ConstraintSpec>,
+}
+
+impl Scene {
+    /// Index of the body with this name.
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// The controls of event `k`, if any.
+    pub fn event_control(&self, k: usize) -> Option<&EventControl> {
+        self.event_controls.iter().find(|c| c.event == k)
+    }
+
+    /// Effective gravity (zero when the effect is not listed).
+    pub fn effective_gravity(&self) -> Vec3 {
+        if self.effects.gravity { self.gravity } else { Vec3::zeros() }
+    }
+}
