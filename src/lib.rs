@@ -9,4 +9,5 @@
 pub mod geometry;
 pub mod math;
 pub mod scene;
+pub mod edit;
 pub mod view;

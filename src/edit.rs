@@ -1,0 +1,103 @@
+//! Editing: every user intent is an [`Edit`], applied atomically through
+//! [`Core::apply`]. The TUI and the headless runner both drive the same core.
+
+use crate::math::Vec3;
+use crate::scene::{Accuracy, Block, StateQuantity};
+use crate::view::View;
+use std::path::{Path, PathBuf};
+
+/// Which side of an impulse a floating constraint refers to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// Just before the impulse.
+    Pre,
+    /// Just after the impulse.
+    Post,
+}
+
+/// An expression constraint (paper §4.2).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Expression {
+    /// `|v_a| − |v_b| = 0` at the current time.
+    EqualSpeed { other: usize },
+    /// `|ω| = value` (rad/s) at the current time.
+    AngularSpeed { value: f64 },
+    /// The body-frame `point` lies on the world plane `n · p = offset`.
+    PointOnPlane { point: Vec3, normal: Vec3, offset: f64 },
+    /// `|p_a − p_b| = value` between body-frame points of two bodies.
+    Distance { other: usize, point: Vec3, other_point: Vec3, value: f64 },
+}
+
+/// One user intent.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Edit {
+    /// Select a body by index.
+    SelectBody(usize),
+    /// Move the current time to `t` (s), clamped to the scene duration.
+    SelectTime(f64),
+    /// Move the current time to the k-th collision event (global index).
+    SelectEvent(usize),
+    /// Drag the selected body's `quantity` at the current time by `delta`
+    /// (world frame; for orientation a rotation vector), keeping every
+    /// constraint in place.
+    Nudge { quantity: StateQuantity, delta: Vec3 },
+    /// Nail the selected body's quantities at the current time to their current values.
+    Nail { quantities: Vec<StateQuantity> },
+    /// A floating constraint on the selected body's quantities at its
+    /// collision nearest the current time.
+    Float { quantities: Vec<StateQuantity>, side: Side },
+    /// An expression constraint on the selected body at the current time.
+    Expression(Expression),
+    /// Remove the constraint with this index (in the constraints panel order).
+    RemoveConstraint(usize),
+    /// Free or fix a control block of a body.
+    SetBlock { body: usize, block: Block, free: bool },
+    /// Add normal and/or restitution controls at the event nearest the current time.
+    AddEventControls { normal: bool, restitution: bool },
+    /// Change the scale (diagonal of M) of a kind of control: a block name,
+    /// `normal` or `restitution`.
+    SetScale { kind: String, value: f64 },
+    /// Change the accuracy settings.
+    SetAccuracy(Accuracy),
+    /// Iterate updates until the constraints are met or progress stalls,
+    /// within `budget_ms` of wall time.
+    Settle { budget_ms: u64 },
+    /// Undo the last edit that changed the motion or the constraints.
+    Undo,
+    /// Redo the last undone edit.
+    Redo,
+}
+
+/// What an applied edit did, for the status line.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Outcome {
+    /// Number of differential updates performed.
+    pub updates: usize,
+    /// Wall time spent, ms.
+    pub elapsed_ms: f64,
+    /// Diagnostics (conflicting constraints, pops, blocks, grazing, ...).
+    pub diagnostics: Vec<String>,
+}
+
+/// Why an edit was refused. The core's state is unchanged.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EditError {
+    #[error("{0}")]
+    Invalid(String),
+    #[error("could not save: {0}")]
+    Save(String),
+}
+
+/// The editing core as the user interfaces see it.
+pub trait Core {
+    /// Apply one edit atomically: on error nothing changes.
+    fn apply(&mut self, edit: Edit) -> Result<Outcome, EditError>;
+    /// A snapshot of everything the screen shows.
+    fn view(&self) -> View;
+    /// Save the edited scene (to `path`, or where it was loaded from).
+    fn save(&mut self, path: Option<&Path>) -> Result<PathBuf, EditError>;
+    /// Whether there are unsaved edits.
+    fn dirty(&self) -> bool;
+    /// The JSON report (`nudge check --json` shape plus constraints).
+    fn report(&self) -> serde_json::Value;
+}
