@@ -14,5 +14,5 @@ mod feature;
 mod shapes;
 
 pub use contact::{Contact, contact, point_parabola};
-pub use feature::{FeaturePair, SideFeature};
+pub use feature::{ContactGeometry, FeaturePair, PoseT, SideFeature};
 pub use shapes::{Geometry, GeometryError, MassProps, Part, PartKind};

@@ -9,5 +9,10 @@
 pub mod geometry;
 pub mod math;
 pub mod scene;
+pub mod sim;
+pub mod controls;
 pub mod edit;
+pub mod testkit;
 pub mod view;
+pub mod tui;
+pub mod script;

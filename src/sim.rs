@@ -1,0 +1,28 @@
+//! The rigid-body simulator with tangent propagation (DESIGN §3–§5).
+//!
+//! [`simulate`] integrates the whole motion of a [`Scene`](crate::scene::Scene)
+//! for its control layout and returns a [`Trajectory`]: every body's state at
+//! any time, every collision [`Event`], evaluation counters per effect and —
+//! when asked — the exact Jacobian `J(t) = ∂q(t)/∂u` at any time and event.
+//!
+//! Only the effects a scene lists are assembled: translation is closed form
+//! (gravity and linear drag are linear ODEs), rotation is closed form unless
+//! the gyroscopic term is listed and the body is non-isotropic (or its
+//! inertia is a free control), and no event search runs without collisions.
+
+mod dynamics;
+mod events;
+mod flight;
+mod impulse;
+mod integrator;
+mod run;
+mod state;
+mod trajectory;
+
+pub use dynamics::BodyDynamics;
+pub use flight::{Translation, translation};
+pub use impulse::{ImpulseCtx, ImpulseResult};
+pub use integrator::euler_rhs;
+pub use run::{SimError, SimOptions, simulate};
+pub use state::{BodyState, StateSide};
+pub use trajectory::{Counters, Event, Party, TangentError, Trajectory};

@@ -1,0 +1,209 @@
+//! Collision detection between steps: a broad phase over each window, then
+//! conservative advancement per candidate pair (no tunnelling: the time
+//! step is bounded by distance / maximum approach speed), Newton probes to
+//! bracket the root early, and a safeguarded Newton–bisection refinement of
+//! the time of impact to the root tolerance.
+
+use super::state::{BodyState, StateSide};
+use super::trajectory::{Counters, Party, Trajectory};
+use crate::geometry::{Contact, Geometry, contact};
+use crate::math::Vec3;
+use crate::scene::Scene;
+use nalgebra::{Isometry3, Translation3};
+
+/// A pair that may collide, and whether its event is armed (a pair is
+/// disarmed right after its impulse until it separates by `arm`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Pair {
+    pub a: usize,
+    pub b: Party,
+    pub armed: bool,
+    /// The search for this pair starts no earlier than this time (a contact
+    /// found not to be approaching is skipped past).
+    pub hold: f64,
+}
+
+/// Tolerances of the event search.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Tolerances {
+    /// Refine until `|E| ≤ root` (m).
+    pub root: f64,
+    /// Re-arm distance and skin of disarmed pairs (m).
+    pub arm: f64,
+}
+
+/// Read-only view of the world at any time during the simulation.
+pub(crate) struct World<'a> {
+    pub scene: &'a Scene,
+    pub traj: &'a Trajectory,
+}
+
+fn isometry(s: &BodyState) -> Isometry3<f64> {
+    Isometry3::from_parts(Translation3::from(s.x), s.q)
+}
+
+impl World<'_> {
+    fn geometry(&self, p: Party) -> &Geometry {
+        match p {
+            Party::Body(i) => &self.scene.bodies[i].geometry,
+            Party::Obstacle(i) => &self.scene.obstacles[i].geometry,
+        }
+    }
+
+    fn state(&self, p: Party, t: f64) -> Option<BodyState> {
+        match p {
+            Party::Body(i) => Some(self.traj.state(i, t, StateSide::After)),
+            Party::Obstacle(_) => None,
+        }
+    }
+
+    fn pose(&self, p: Party, s: &Option<BodyState>) -> Isometry3<f64> {
+        match (p, s) {
+            (Party::Obstacle(i), _) => self.scene.obstacles[i].pose,
+            (_, Some(s)) => isometry(s),
+            _ => Isometry3::identity(),
+        }
+    }
+
+    /// Speed bound of a party over `[t, t + τ]` as `a + b τ` (m/s): the
+    /// linear speed grows at most by `|g| τ` (drag only slows it), and the
+    /// angular speed is bounded by `|L| / I_min` in torque-free flight.
+    fn bound(&self, p: Party, s: &Option<BodyState>) -> (f64, f64) {
+        let (Party::Body(i), Some(s)) = (p, s) else { return (0.0, 0.0) };
+        if s.v == Vec3::zeros() && s.w == Vec3::zeros() && self.traj.resting_state(i, s) {
+            return (0.0, 0.0);
+        }
+        let d = &self.traj.dynamics[i];
+        let ang = if d.integrate {
+            let r = *s.q.to_rotation_matrix().matrix();
+            (r * d.inertia * r.transpose() * s.w).norm() / d.principal.min()
+        } else {
+            s.w.norm()
+        };
+        (s.v.norm() + ang * d.reach, self.traj.gravity.norm())
+    }
+
+    /// Contact of a pair at time `t`, with the relative normal velocity at
+    /// the witness points (negative when approaching).
+    pub fn contact(&self, pair: &Pair, t: f64, max_distance: f64) -> Option<(Contact, f64)> {
+        let sa = self.state(Party::Body(pair.a), t);
+        let sb = self.state(pair.b, t);
+        self.contact_with(pair, &sa, &sb, max_distance)
+    }
+
+    fn contact_with(&self, pair: &Pair, sa: &Option<BodyState>, sb: &Option<BodyState>, max_distance: f64) -> Option<(Contact, f64)> {
+        let pa = self.pose(Party::Body(pair.a), sa);
+        let pb = self.pose(pair.b, sb);
+        Counters::bump(&self.traj.counters.collisions, 1);
+        let c = contact(self.geometry(Party::Body(pair.a)), &pa, self.geometry(pair.b), &pb, max_distance)?;
+        let va = sa.map(|s| s.v + s.w.cross(&(c.point_a - s.x))).unwrap_or_default();
+        let vb = sb.map(|s| s.v + s.w.cross(&(c.point_b - s.x))).unwrap_or_default();
+        Some((c, c.normal.dot(&(va - vb))))
+    }
+
+    /// Axis-aligned box containing body `i` over `[t0, t1]`.
+    pub fn sweep_box(&self, i: usize, t0: f64, t1: f64) -> (Vec3, Vec3) {
+        let a = self.traj.state(i, t0, StateSide::After);
+        let b = self.traj.state(i, t1, StateSide::After);
+        let dt = t1 - t0;
+        let d = &self.traj.dynamics[i];
+        let g = self.traj.gravity.norm();
+        let accel = g + d.drag_k.unwrap_or(0.0) * (a.v.norm() + g * dt);
+        let pad = d.reach + accel * dt * dt / 8.0 + 1e-9;
+        let lo = a.x.inf(&b.x).add_scalar(-pad);
+        let hi = a.x.sup(&b.x).add_scalar(pad);
+        (lo, hi)
+    }
+
+    /// Safeguarded Newton–bisection on `E(t) = distance + skin` in
+    /// `[lo, hi]` with `E(lo) > 0 ≥ E(hi)`.
+    fn refine(&self, pair: &Pair, skin: f64, mut lo: f64, mut hi: f64, tol: f64) -> Option<(f64, Contact)> {
+        let mut t = hi;
+        let mut best: Option<(f64, Contact)> = None;
+        for _ in 0..200 {
+            let (c, rate) = self.contact(pair, t, f64::INFINITY)?;
+            let e = c.distance + skin;
+            if e.abs() <= tol {
+                return Some((t, c));
+            }
+            if e > 0.0 {
+                lo = t;
+            } else {
+                hi = t;
+                best = Some((t, c));
+            }
+            if hi - lo <= 4.0 * f64::EPSILON * hi.abs().max(1.0) {
+                break;
+            }
+            let tn = if rate != 0.0 { t - e / rate } else { f64::NAN };
+            t = if tn > lo && tn < hi { tn } else { 0.5 * (lo + hi) };
+        }
+        best.or_else(|| self.contact(pair, hi, f64::INFINITY).map(|(c, _)| (hi, c)))
+    }
+
+    /// The first time in `[t0, t1]` at which the pair's event function
+    /// crosses zero while approaching, by conservative advancement: from a
+    /// gap `e` and a speed bound `a + b τ`, no contact can happen before
+    /// the `τ` solving `a τ + b τ² = e`.
+    pub fn find_impact(&self, pair: &Pair, t0: f64, t1: f64, tol: &Tolerances) -> Option<(f64, Contact)> {
+        let mut skin = if pair.armed { 0.0 } else { tol.arm };
+        let hit = 10.0 * tol.root;
+        let mut t = t0.max(pair.hold);
+        if t > t1 {
+            return None;
+        }
+        let mut last_positive: Option<f64> = None;
+        for _ in 0..10_000 {
+            let sa = self.state(Party::Body(pair.a), t);
+            let sb = self.state(pair.b, t);
+            let (a1, b1) = self.bound(Party::Body(pair.a), &sa);
+            let (a2, b2) = self.bound(pair.b, &sb);
+            let (a, b) = (a1 + a2, b1 + b2);
+            let rem = t1 - t;
+            let reach = a * rem + b * rem * rem + hit + skin;
+            let (c, rate) = self.contact_with(pair, &sa, &sb, reach)?;
+            if c.distance > tol.arm {
+                // Separated by more than the arm distance: the event is armed
+                // again for the rest of the search.
+                skin = 0.0;
+            }
+            let e = c.distance + skin;
+            if e <= hit && rate < 0.0 {
+                if e.abs() <= tol.root {
+                    return Some((t, c));
+                }
+                if e < 0.0 {
+                    return match last_positive {
+                        Some(lo) => self.refine(pair, skin, lo, t, tol.root),
+                        None => Some((t, c)),
+                    };
+                }
+            }
+            if e > hit {
+                last_positive = Some(t);
+            }
+            if rate < 0.0 {
+                // Newton probe: bracket the root early when it is near.
+                let tn = t - e / rate;
+                if tn > t && tn <= t1 {
+                    if let Some((cn, _)) = self.contact(pair, tn, f64::INFINITY) {
+                        if cn.distance + skin <= 0.0 {
+                            return self.refine(pair, skin, t, tn, tol.root);
+                        }
+                    }
+                }
+            }
+            if a <= 0.0 && b <= 0.0 {
+                return None;
+            }
+            // Largest safe advance; inside the contact band, step just past it.
+            let gap = if e > hit { e - 0.5 * hit } else { (2.0 * hit - e).max(hit) };
+            let tau = 2.0 * gap / (a + (a * a + 4.0 * b * gap).sqrt());
+            t += tau.max(f64::EPSILON * t.abs().max(1.0));
+            if t > t1 {
+                return None;
+            }
+        }
+        None
+    }
+}

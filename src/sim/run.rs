@@ -1,0 +1,618 @@
+//! The simulation loop: windows of integration, event search, impulses and
+//! the saltation update of the Jacobian at every impulse (DESIGN §5).
+
+use super::dynamics::BodyDynamics;
+use super::events::{Pair, Tolerances, World};
+use super::impulse::{ImpulseCtx, PartyCtx};
+use super::integrator::{self, Step};
+use super::state::{BodyState, StateSide};
+use super::trajectory::{Counters, Event, Party, Segment, TangentError, Track, Trajectory};
+use crate::controls::Controls;
+use crate::geometry::FeaturePair;
+use crate::math::{Vec3, exp_so3, left_jacobian};
+use crate::scene::{Block, Method, Scene};
+use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
+
+/// Options of one simulation run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimOptions {
+    /// Propagate tangents (compute Jacobians). Off for finite differences.
+    pub tangent: bool,
+    /// A contact is grazing when `|E_q F| < graze_tol |E_q| |F|`.
+    pub graze_tol: f64,
+    /// Refuse to go on past this many events.
+    pub max_events: usize,
+    /// Length of the event-search window, s.
+    pub window: f64,
+}
+
+impl Default for SimOptions {
+    fn default() -> Self {
+        SimOptions { tangent: true, graze_tol: 1e-3, max_events: 100_000, window: 0.05 }
+    }
+}
+
+/// Why a simulation could not be completed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// A body's state stopped being finite.
+    #[error("body \"{body}\" left the finite numbers at t = {t:.6} s; check its mass, inertia and speeds for extreme values")]
+    NonFinite { body: String, t: f64 },
+    /// More events than the limit.
+    #[error("more than {limit} collision events by t = {t:.6} s; shorten the duration or raise rest_speed")]
+    TooManyEvents { limit: usize, t: f64 },
+    /// Two parties stayed in contact, colliding ever faster (resting contact
+    /// between bodies is outside the impact model).
+    #[error("\"{a}\" and \"{b}\" stay in contact from t = {t:.6} s ({count} impacts in {span:.1e} s): nudge models impacts, not sustained contact; raise restitution or separate them")]
+    SustainedContact { a: String, b: String, t: f64, count: usize, span: f64 },
+    /// The adaptive integrator could not meet the tolerance.
+    #[error("the adaptive step fell below 1e-12 s at t = {t:.6} s; loosen the tolerance")]
+    StepTooSmall { t: f64 },
+}
+
+/// Where an integrated body's next step starts.
+#[derive(Debug, Clone)]
+struct Cursor {
+    q: UnitQuaternion<f64>,
+    z: Vec<f64>,
+}
+
+fn reset_theta(mut z: Vec<f64>) -> Vec<f64> {
+    z[3..6].fill(0.0);
+    z
+}
+
+fn initial_jacobian(scene: &Scene, controls: &Controls, i: usize, m: usize) -> DMatrix<f64> {
+    let mut j = DMatrix::zeros(12, m);
+    let b = &scene.bodies[i];
+    let mut put = |block: Block, row: usize, m3: &nalgebra::Matrix3<f64>| {
+        if let Some(col) = controls.body_column(i, block) {
+            j.view_mut((row, col), (3, 3)).copy_from(m3);
+        }
+    };
+    let id = nalgebra::Matrix3::identity();
+    put(Block::Position, 0, &id);
+    put(Block::Orientation, 3, &left_jacobian(&b.orientation));
+    put(Block::Velocity, 6, &id);
+    put(Block::AngularVelocity, 9, &id);
+    j
+}
+
+struct Sim<'a> {
+    scene: &'a Scene,
+    controls: &'a Controls,
+    opts: SimOptions,
+    traj: Trajectory,
+    cursors: Vec<Option<Cursor>>,
+    pairs: Vec<Pair>,
+    allowed: std::collections::HashSet<(usize, usize)>,
+    obstacle_boxes: Vec<Option<(Vec3, Vec3)>>,
+    tol: Tolerances,
+}
+
+/// Simulate the scene for its current control values. With
+/// `opts.tangent`, Jacobians with respect to the free controls of
+/// `controls` are propagated alongside.
+pub fn simulate(scene: &Scene, controls: &Controls, opts: &SimOptions) -> Result<Trajectory, SimError> {
+    let m = if opts.tangent { controls.m() } else { 0 };
+    let dynamics: Vec<BodyDynamics> = (0..scene.bodies.len()).map(|i| BodyDynamics::new(scene, i, controls)).collect();
+    let mut tracks = Vec::new();
+    let mut cursors = Vec::new();
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let q = exp_so3(&b.orientation);
+        let start = BodyState { x: b.position, q, v: b.velocity, w: b.angular_velocity };
+        if !start.is_finite() {
+            return Err(SimError::NonFinite { body: b.name.clone(), t: 0.0 });
+        }
+        let j0 = initial_jacobian(scene, controls, i, m);
+        tracks.push(Track { segments: vec![Segment { t0: 0.0, start, j0, rest: false, steps: Vec::new() }] });
+        cursors.push(dynamics[i].integrate.then(|| Cursor { q, z: integrator::initial(&(q.inverse() * b.angular_velocity), opts.tangent) }));
+    }
+    let col = |i: usize, b: Block| if opts.tangent { controls.body_column(i, b) } else { None };
+    let traj = Trajectory {
+        duration: scene.duration,
+        gravity: scene.effective_gravity(),
+        gravity_listed: scene.effects.gravity,
+        mass_cols: (0..scene.bodies.len()).map(|i| col(i, Block::Mass)).collect(),
+        inertia_cols: (0..scene.bodies.len()).map(|i| col(i, Block::Inertia)).collect(),
+        dynamics,
+        tracks,
+        events: Vec::new(),
+        counters: Counters::default(),
+        m,
+        tangent: opts.tangent,
+        tangent_error: None,
+        diagnostics: Vec::new(),
+    };
+    let mut pairs = Vec::new();
+    if scene.effects.collisions {
+        for a in 0..scene.bodies.len() {
+            for o in 0..scene.obstacles.len() {
+                pairs.push(Pair { a, b: Party::Obstacle(o), armed: true, hold: 0.0 });
+            }
+        }
+        for p in &scene.pairs {
+            pairs.push(Pair { a: p[0], b: Party::Body(p[1]), armed: true, hold: 0.0 });
+        }
+    }
+    let obstacle_boxes = scene
+        .obstacles
+        .iter()
+        .map(|o| {
+            if o.geometry.reach().is_finite() {
+                let pts: Vec<Vec3> = o.geometry.outline(1.0).iter().flat_map(|(a, b)| [*a, *b]).map(|p| (o.pose * nalgebra::Point3::from(p)).coords).collect();
+                let lo = pts.iter().fold(Vec3::repeat(f64::INFINITY), |a, p| a.inf(p));
+                let hi = pts.iter().fold(Vec3::repeat(f64::NEG_INFINITY), |a, p| a.sup(p));
+                Some((lo, hi))
+            } else {
+                None
+            }
+        })
+        .collect();
+    let root = scene.accuracy.root_tol;
+    let mut sim = Sim {
+        scene,
+        controls,
+        opts: *opts,
+        traj,
+        cursors,
+        allowed: scene.pairs.iter().map(|p| (p[0], p[1])).collect(),
+        pairs,
+        obstacle_boxes,
+        tol: Tolerances { root, arm: (10.0 * root).max(1e-9) },
+    };
+    sim.run()?;
+    Ok(sim.traj)
+}
+
+impl Sim<'_> {
+    fn run(&mut self) -> Result<(), SimError> {
+        let duration = self.scene.duration;
+        let mut t = 0.0;
+        let mut frontier = 0.0;
+        let mut h = match self.scene.accuracy.method {
+            Method::Rk4 { step } => step,
+            Method::Adaptive { max_step, .. } => max_step.min(1e-2),
+        };
+        let window = self.opts.window.max(self.scene.accuracy.window());
+        while t < duration {
+            let end = (t + window).min(duration);
+            while frontier < end && self.cursors.iter().any(Option::is_some) {
+                let mut hh = match self.scene.accuracy.method {
+                    Method::Rk4 { step } => step,
+                    Method::Adaptive { .. } => h,
+                };
+                if duration - frontier < 1.5 * hh {
+                    hh = duration - frontier;
+                }
+                let taken = self.integrate(frontier, hh)?;
+                frontier += taken.0;
+                h = taken.1;
+            }
+            let end = if self.cursors.iter().any(Option::is_some) { end.min(frontier) } else { end };
+            match self.next_impact(t, end) {
+                None => t = end,
+                Some((tc, pair, contact)) => {
+                    if std::env::var("NUDGE_DEBUG").is_ok() {
+                        eprintln!("impact t={tc} pair={pair} d={} events={}", contact.distance, self.traj.events.len());
+                    }
+                    self.truncate(tc);
+                    frontier = tc;
+                    self.impact(tc, pair, &contact)?;
+                    t = tc;
+                    if self.traj.events.len() > self.opts.max_events {
+                        return Err(SimError::TooManyEvents { limit: self.opts.max_events, t });
+                    }
+                }
+            }
+        }
+        for (i, b) in self.scene.bodies.iter().enumerate() {
+            if !self.traj.state(i, duration, StateSide::After).is_finite() {
+                return Err(SimError::NonFinite { body: b.name.clone(), t: duration });
+            }
+        }
+        Ok(())
+    }
+
+    /// Advance every integrated body by one shared step from `t`. Returns the
+    /// step taken and the proposal for the next one.
+    fn integrate(&mut self, t: f64, h: f64) -> Result<(f64, f64), SimError> {
+        let active: Vec<usize> = (0..self.cursors.len()).filter(|&i| self.cursors[i].is_some()).collect();
+        let mut evals = 0u64;
+        let result = match self.scene.accuracy.method {
+            Method::Rk4 { .. } => {
+                let mut steps = Vec::new();
+                for &i in &active {
+                    let c = self.cursors[i].as_ref().map(|c| (c.q, c.z.clone()));
+                    if let Some((q, z)) = c {
+                        steps.push((i, integrator::step_rk4(&self.traj.dynamics[i], t, q, z, h, &mut evals)));
+                    }
+                }
+                self.push_steps(steps, t + h)?;
+                (h, h)
+            }
+            Method::Adaptive { tol, max_step } => {
+                let mut hh = h;
+                loop {
+                    let mut steps = Vec::new();
+                    let mut err: f64 = 0.0;
+                    for &i in &active {
+                        if let Some(c) = &self.cursors[i] {
+                            let (s, e) = integrator::step_dopri(&self.traj.dynamics[i], t, c.q, c.z.clone(), hh, tol, &mut evals);
+                            err = err.max(if e.is_finite() { e } else { f64::INFINITY });
+                            steps.push((i, s));
+                        }
+                    }
+                    if err <= 1.0 {
+                        let grow = if err > 0.0 { (0.9 * err.powf(-0.2)).min(5.0) } else { 5.0 };
+                        self.push_steps(steps, t + hh)?;
+                        break (hh, (hh * grow).min(max_step));
+                    }
+                    hh *= (0.9 * err.powf(-0.2)).clamp(0.1, 0.9);
+                    if !(hh >= 1e-12) {
+                        return Err(SimError::StepTooSmall { t });
+                    }
+                }
+            }
+        };
+        Counters::bump(&self.traj.counters.gyroscopic, evals);
+        Ok(result)
+    }
+
+    fn push_steps(&mut self, steps: Vec<(usize, Step)>, t1: f64) -> Result<(), SimError> {
+        for (i, s) in steps {
+            if !s.z1.iter().take(6).all(|v| v.is_finite()) {
+                return Err(SimError::NonFinite { body: self.scene.bodies[i].name.clone(), t: t1 });
+            }
+            let q = integrator::advance(&s.q0, &s.z1);
+            self.cursors[i] = Some(Cursor { q, z: reset_theta(s.z1.clone()) });
+            if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
+                seg.steps.push(s);
+            }
+        }
+        Ok(())
+    }
+
+    /// Cut every integrated body's steps at `tc` and restart its cursor there.
+    fn truncate(&mut self, tc: f64) {
+        for i in 0..self.cursors.len() {
+            if self.cursors[i].is_none() {
+                continue;
+            }
+            let d = &self.traj.dynamics[i];
+            let Some(seg) = self.traj.tracks[i].segments.last() else { continue };
+            let k = seg.steps.partition_point(|s| s.t0 <= tc);
+            if k == 0 {
+                continue;
+            }
+            let mut evals = 0;
+            let (q, z) = seg.steps[k - 1].at(d, tc, &mut evals);
+            Counters::bump(&self.traj.counters.gyroscopic, evals);
+            if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
+                seg.steps.retain(|s| s.t0 < tc);
+            }
+            self.cursors[i] = Some(Cursor { q, z: reset_theta(z) });
+        }
+    }
+
+    /// The earliest impact in `[t0, t1]`: broad phase, then conservative
+    /// advancement per candidate pair.
+    fn next_impact(&mut self, t0: f64, t1: f64) -> Option<(f64, usize, crate::geometry::Contact)> {
+        if self.pairs.is_empty() || t1 <= t0 {
+            return None;
+        }
+        let world = World { scene: self.scene, traj: &self.traj };
+        // Re-arm pairs that have separated by more than the arm distance.
+        for p in self.pairs.iter_mut().filter(|p| !p.armed) {
+            match world.contact(p, t0, self.tol.arm) {
+                None => p.armed = true,
+                Some((c, _)) => p.armed = c.distance > self.tol.arm,
+            }
+        }
+        let n = self.scene.bodies.len();
+        let boxes: Vec<(Vec3, Vec3)> = (0..n).map(|i| world.sweep_box(i, t0, t1)).collect();
+        let overlap = |a: &(Vec3, Vec3), b: &(Vec3, Vec3)| (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k]);
+        // Sweep and prune on x for body–body pairs (not quadratic in N).
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
+        let mut close = std::collections::HashSet::new();
+        let mut active: Vec<usize> = Vec::new();
+        for &i in &order {
+            active.retain(|&j| boxes[j].1.x >= boxes[i].0.x);
+            for &j in &active {
+                let key = (i.min(j), i.max(j));
+                if self.allowed.contains(&key) && overlap(&boxes[i], &boxes[j]) {
+                    close.insert(key);
+                }
+            }
+            active.push(i);
+        }
+        let mut best: Option<(f64, usize, crate::geometry::Contact)> = None;
+        for (k, p) in self.pairs.iter().enumerate() {
+            let candidate = match p.b {
+                Party::Obstacle(o) => {
+                    !self.traj.resting(p.a, t0, StateSide::After)
+                        && self.obstacle_boxes[o].as_ref().is_none_or(|b| overlap(&boxes[p.a], b))
+                }
+                Party::Body(j) => close.contains(&(p.a, j)),
+            };
+            if !candidate {
+                continue;
+            }
+            let limit = best.as_ref().map_or(t1, |b| b.0);
+            if let Some((tc, c)) = world.find_impact(p, t0, limit, &self.tol) {
+                if best.as_ref().is_none_or(|b| tc < b.0) {
+                    best = Some((tc, k, c));
+                }
+            }
+        }
+        best
+    }
+
+    fn party_ctx(&self, i: usize, s: &BodyState) -> PartyCtx {
+        let d = &self.traj.dynamics[i];
+        PartyCtx { state: *s, mass: d.mass, principal: d.principal, axes: d.axes }
+    }
+
+    /// Apply the impulse of pair `k` at `tc`, start new segments and update
+    /// the Jacobians by the saltation formula.
+    fn impact(&mut self, tc: f64, k: usize, contact: &crate::geometry::Contact) -> Result<(), SimError> {
+        let pair = self.pairs[k];
+        self.pairs[k].armed = false;
+        let scene = self.scene;
+        let a = pair.a;
+        let sa = self.traj.state(a, tc, StateSide::After);
+        let sb = match pair.b {
+            Party::Body(j) => Some(self.traj.state(j, tc, StateSide::After)),
+            Party::Obstacle(_) => None,
+        };
+        let iso = |s: &BodyState| Isometry3::from_parts(Translation3::from(s.x), s.q);
+        let (gb, pose_b, e_b, mu_b) = match pair.b {
+            Party::Body(j) => (&scene.bodies[j].geometry, sb.as_ref().map(iso).unwrap_or_default(), scene.bodies[j].restitution, scene.bodies[j].friction),
+            Party::Obstacle(o) => (&scene.obstacles[o].geometry, scene.obstacles[o].pose, scene.obstacles[o].restitution, scene.obstacles[o].friction),
+        };
+        let body_a = &scene.bodies[a];
+        let feature = FeaturePair::classify(&body_a.geometry, &iso(&sa), gb, &pose_b, contact);
+        let index = self.traj.events.len();
+        let control = scene.event_control(index);
+        let restitution = control.and_then(|c| c.restitution).unwrap_or(body_a.restitution * e_b);
+        let n = contact.normal;
+        let axis = {
+            let k = (0..3).min_by(|&x, &y| n[x].abs().total_cmp(&n[y].abs())).unwrap_or(0);
+            let mut e = Vec3::zeros();
+            e[k] = 1.0;
+            e
+        };
+        let friction = if scene.effects.friction { (body_a.friction * mu_b).sqrt() } else { 0.0 };
+        let mut ctx = ImpulseCtx {
+            feature: feature.clone(),
+            a: self.party_ctx(a, &sa),
+            b: match (pair.b, &sb) {
+                (Party::Body(j), Some(s)) => Some(self.party_ctx(j, s)),
+                _ => None,
+            },
+            b_pose: pose_b,
+            restitution,
+            normal_dev: control.and_then(|c| c.normal),
+            tangent_axis: axis,
+            friction,
+            stick: false,
+        };
+        let res = ctx.apply();
+        if friction > 0.0 {
+            Counters::bump(&self.traj.counters.friction, 1);
+        }
+        if res.approach >= 0.0 {
+            // Touching without approaching (a graze at the root): no impulse;
+            // resume this pair's search just past the contact.
+            let v = res.separation.abs().max(1e-3);
+            self.pairs[k].hold = tc + (10.0 * self.tol.root / v).max(1e-12 * tc.abs().max(1.0));
+            return Ok(());
+        }
+        self.pairs[k].hold = tc;
+        self.check_sustained(k, tc)?;
+        let rest = matches!(pair.b, Party::Obstacle(_)) && res.separation < scene.rest_speed;
+        let mut post_a = BodyState { v: res.va, w: res.wa, ..sa };
+        if rest {
+            post_a.v = Vec3::zeros();
+            post_a.w = Vec3::zeros();
+        }
+        let post_b = sb.map(|s| BodyState { v: res.vb, w: res.wb, ..s });
+        for (i, s) in [(Some(a), Some(post_a)), (pair.b_body(), post_b)] {
+            if let (Some(i), Some(s)) = (i, s) {
+                if !s.is_finite() {
+                    return Err(SimError::NonFinite { body: scene.bodies[i].name.clone(), t: tc });
+                }
+            }
+        }
+        let g_n = -self.traj.gravity.dot(&n);
+        let rest_time = rest.then(|| {
+            if restitution < 1.0 && g_n > 0.0 { tc + 2.0 * res.separation.max(0.0) / (g_n * (1.0 - restitution)) } else { tc }
+        });
+        // Tangents through the impulse.
+        let m = self.traj.m;
+        let mut ja = DMatrix::zeros(12, m);
+        let mut jb = DMatrix::zeros(12, m);
+        let mut dt_du = None;
+        let mut graze_ratio = f64::NAN;
+        let mut grazing = false;
+        if self.traj.tangent && self.traj.tangent_error.is_none() {
+            match self.saltation(tc, index, pair, &sa, sb.as_ref(), &post_a, post_b.as_ref(), rest, &ctx) {
+                Ok((jpost, dt, ratio)) => {
+                    graze_ratio = ratio;
+                    ja.copy_from(&jpost.rows(0, 12));
+                    if jpost.nrows() == 24 {
+                        jb.copy_from(&jpost.rows(12, 12));
+                    }
+                    dt_du = Some(dt);
+                }
+                Err((e, ratio)) => {
+                    graze_ratio = ratio;
+                    grazing = matches!(e, TangentError::Grazing { .. });
+                    self.traj.diagnostics.push(e.to_string());
+                    self.traj.tangent_error = Some(e);
+                }
+            }
+        } else if self.traj.tangent {
+            // Tangents already unavailable: still measure how grazing the contact is.
+            graze_ratio = f64::NAN;
+        }
+        let event = Event {
+            index,
+            t: tc,
+            a,
+            b: pair.b,
+            key: feature.key(),
+            simultaneous: feature.simultaneous(),
+            feature,
+            normal: res.normal,
+            point: res.point,
+            approach: res.approach,
+            separation: if rest { 0.0 } else { res.separation },
+            restitution,
+            graze_ratio,
+            grazing,
+            rest,
+            rest_time,
+            stick: (friction > 0.0).then_some(ctx.stick),
+            dt_du,
+            pre: [sa, sb.unwrap_or(sa)],
+            post: [post_a, post_b.unwrap_or(post_a)],
+        };
+        self.traj.events.push(event);
+        self.start_segment(a, tc, post_a, ja, rest);
+        if let (Some(j), Some(s)) = (pair.b_body(), post_b) {
+            self.start_segment(j, tc, s, jb, false);
+        }
+        Ok(())
+    }
+
+    /// Refuse a pair that chatters: many impacts in a tiny span of time.
+    fn check_sustained(&self, k: usize, tc: f64) -> Result<(), SimError> {
+        const COUNT: usize = 200;
+        let pair = self.pairs[k];
+        let recent: Vec<f64> = self.traj.events.iter().rev().filter(|e| e.a == pair.a && e.b == pair.b).take(COUNT).map(|e| e.t).collect();
+        if recent.len() == COUNT {
+            let span = tc - recent[COUNT - 1];
+            if span < 1e-3 * self.scene.duration.max(1e-3) {
+                let name = |p: Party| match p {
+                    Party::Body(i) => self.scene.bodies[i].name.clone(),
+                    Party::Obstacle(i) => self.scene.obstacles[i].name.clone(),
+                };
+                return Err(SimError::SustainedContact { a: name(Party::Body(pair.a)), b: name(pair.b), t: recent[COUNT - 1], count: COUNT, span });
+            }
+        }
+        Ok(())
+    }
+
+    fn start_segment(&mut self, i: usize, t0: f64, start: BodyState, j0: DMatrix<f64>, rest: bool) {
+        self.traj.tracks[i].segments.push(Segment { t0, start, j0, rest, steps: Vec::new() });
+        self.cursors[i] = (self.traj.dynamics[i].integrate && !rest)
+            .then(|| Cursor { q: start.q, z: integrator::initial(&(start.q.inverse() * start.w), self.opts.tangent) });
+    }
+
+    /// `J⁺ = Φ_q J⁻ + Φ_u + (Φ_q F⁻ − F⁺) dt_c/du` with
+    /// `dt_c/du = −E_q J⁻ / (E_q F⁻)`.
+    #[allow(clippy::too_many_arguments)]
+    fn saltation(
+        &self,
+        tc: f64,
+        index: usize,
+        pair: Pair,
+        sa: &BodyState,
+        sb: Option<&BodyState>,
+        post_a: &BodyState,
+        post_b: Option<&BodyState>,
+        rest: bool,
+        ctx: &ImpulseCtx,
+    ) -> Result<(DMatrix<f64>, DVector<f64>, f64), (TangentError, f64)> {
+        let m = self.traj.m;
+        let a = pair.a;
+        let ns = if sb.is_some() { 24 } else { 12 };
+        let nonfinite = |ratio| (TangentError::NonFinite { t: tc }, ratio);
+        let mut jpre = DMatrix::zeros(ns, m);
+        jpre.rows_mut(0, 12).copy_from(&self.traj.jacobian(a, tc, StateSide::After).map_err(|e| (e, f64::NAN))?);
+        let mut fpre = DVector::zeros(ns);
+        fpre.rows_mut(0, 12).copy_from(&self.traj.flow(a, sa, false));
+        let mut fpost = DVector::zeros(ns);
+        fpost.rows_mut(0, 12).copy_from(&self.traj.flow(a, post_a, rest));
+        if let (Some(j), Some(sb), Some(pb)) = (pair.b_body(), sb, post_b) {
+            jpre.rows_mut(12, 12).copy_from(&self.traj.jacobian(j, tc, StateSide::After).map_err(|e| (e, f64::NAN))?);
+            fpre.rows_mut(12, 12).copy_from(&self.traj.flow(j, sb, false));
+            fpost.rows_mut(12, 12).copy_from(&self.traj.flow(j, pb, false));
+        }
+        let jac = ctx.jacobian();
+        let eq = jac.view((0, 0), (1, ns)).into_owned();
+        let denom = (&eq * &fpre)[(0, 0)];
+        let ratio = denom.abs() / (eq.norm() * fpre.norm());
+        if !ratio.is_finite() {
+            return Err(nonfinite(ratio));
+        }
+        if ratio < self.opts.graze_tol {
+            return Err((TangentError::Grazing { event: index, t: tc, ratio }, ratio));
+        }
+        let dt = -(&eq * &jpre) / denom; // 1 × m
+        let mut phi = DMatrix::<f64>::identity(ns, ns);
+        phi.view_mut((6, 0), (6, ns)).copy_from(&jac.view((1, 0), (6, ns)));
+        if ns == 24 {
+            phi.view_mut((18, 0), (6, ns)).copy_from(&jac.view((7, 0), (6, ns)));
+        }
+        let mut jpost = &phi * &jpre + (&phi * &fpre - &fpost) * &dt;
+        // Φ_u: event parameters, masses and inertias.
+        let p0 = ctx.param_offset();
+        let mut params: Vec<(usize, usize)> = Vec::new();
+        let (normal_col, rest_col) = self.controls.event_columns(index);
+        if let Some(c) = normal_col.filter(|_| self.opts.tangent) {
+            params.push((p0, c));
+            params.push((p0 + 1, c + 1));
+        }
+        if let Some(c) = rest_col.filter(|_| self.opts.tangent) {
+            params.push((p0 + 2, c));
+        }
+        if let Some(c) = self.traj.mass_cols[a] {
+            params.push((p0 + 3, c));
+        }
+        if let Some(c) = self.traj.inertia_cols[a] {
+            for k in 0..3 {
+                params.push((p0 + 4 + k, c + k));
+            }
+        }
+        if let Some(j) = pair.b_body() {
+            if let Some(c) = self.traj.mass_cols[j] {
+                params.push((p0 + 7, c));
+            }
+            if let Some(c) = self.traj.inertia_cols[j] {
+                for k in 0..3 {
+                    params.push((p0 + 8 + k, c + k));
+                }
+            }
+        }
+        for (p, c) in params {
+            if c >= m {
+                continue;
+            }
+            for r in 0..6 {
+                jpost[(6 + r, c)] += jac[(1 + r, p)];
+                if ns == 24 {
+                    jpost[(18 + r, c)] += jac[(7 + r, p)];
+                }
+            }
+        }
+        if rest {
+            jpost.rows_mut(6, 6).fill(0.0);
+        }
+        if !jpost.iter().chain(dt.iter()).all(|v| v.is_finite()) {
+            return Err(nonfinite(ratio));
+        }
+        Ok((jpost, DVector::from_iterator(m, dt.iter().cloned()), ratio))
+    }
+}
+
+impl Pair {
+    fn b_body(&self) -> Option<usize> {
+        match self.b {
+            Party::Body(j) => Some(j),
+            Party::Obstacle(_) => None,
+        }
+    }
+}

@@ -1,0 +1,48 @@
+use crate::math::Vec3;
+use nalgebra::UnitQuaternion;
+
+/// The state of one rigid body (DESIGN §2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyState {
+    /// Centre-of-mass position, m.
+    pub x: Vec3,
+    /// Orientation, body frame to world.
+    pub q: UnitQuaternion<f64>,
+    /// Linear velocity, m/s.
+    pub v: Vec3,
+    /// Angular velocity in the world frame, rad/s.
+    pub w: Vec3,
+}
+
+impl BodyState {
+    /// World position of a body-frame point.
+    pub fn point(&self, p: &Vec3) -> Vec3 {
+        self.x + self.q * p
+    }
+
+    /// Velocity of a body-frame point.
+    pub fn point_velocity(&self, p: &Vec3) -> Vec3 {
+        self.v + self.w.cross(&(self.q * p))
+    }
+
+    /// Whether every number is finite.
+    pub fn is_finite(&self) -> bool {
+        self.x.iter().chain(self.v.iter()).chain(self.w.iter()).all(|v| v.is_finite())
+            && self.q.coords.iter().all(|v| v.is_finite())
+    }
+
+    /// The exponential-map vector of the orientation (|r| ≤ π).
+    pub fn orientation_vector(&self) -> Vec3 {
+        crate::math::log_so3(&self.q)
+    }
+}
+
+/// Which side of an impulse a query refers to when the time is exactly an
+/// event time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum StateSide {
+    /// The limit from before (pre-impulse).
+    Before,
+    /// The limit from after (post-impulse); also the value at any other time.
+    After,
+}
