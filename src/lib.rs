@@ -12,6 +12,7 @@ pub mod scene;
 pub mod sim;
 pub mod controls;
 pub mod edit;
+pub mod tangent;
 pub mod testkit;
 pub mod view;
 pub mod tui;

@@ -66,7 +66,7 @@ fn initial_jacobian(scene: &Scene, controls: &Controls, i: usize, m: usize) -> D
     let mut j = DMatrix::zeros(12, m);
     let b = &scene.bodies[i];
     let mut put = |block: Block, row: usize, m3: &nalgebra::Matrix3<f64>| {
-        if let Some(col) = controls.body_column(i, block) {
+        if let Some(col) = controls.body_column(i, block).filter(|c| c + 3 <= m) {
             j.view_mut((row, col), (3, 3)).copy_from(m3);
         }
     };
