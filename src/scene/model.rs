@@ -147,6 +147,7 @@ impl Block {
     }
 
     /// Number of entries in the block.
+    #[allow(clippy::len_without_is_empty, reason = "a block always has at least one entry")]
     pub fn len(self) -> usize {
         match self {
             Block::Mass => 1,

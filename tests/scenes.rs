@@ -1,0 +1,396 @@
+//! The scene format end to end: every shipped scene loads and saves back
+//! bit for bit, and every invalid scene under `tests/invalid_scenes/` fails
+//! with exactly the message on its first line (`# expect: <message>`).
+use nudge::geometry::{Geometry, PartKind};
+use nudge::scene::{DEFAULT_SCENE, Method, Scene, SceneError, load, load_str, save, to_toml};
+use std::path::{Path, PathBuf};
+
+/// The `.toml` files of a directory (relative to the crate root), sorted.
+fn toml_files(dir: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{dir}: {e}"))
+        .map(|e| Path::new(dir).join(e.expect("directory entry").file_name()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+fn message(r: Result<Scene, SceneError>) -> Option<String> {
+    match r {
+        Ok(_) => None,
+        Err(SceneError::Invalid(m)) => Some(m),
+    }
+}
+
+#[test]
+fn every_invalid_scene_fails_with_its_expected_message() {
+    let files = toml_files("tests/invalid_scenes");
+    assert!(files.len() >= 15, "only {} invalid scenes", files.len());
+    let mut failures = Vec::new();
+    for path in &files {
+        let bytes = std::fs::read(path).expect("readable");
+        let first = bytes.split(|b| *b == b'\n').next().unwrap_or_default();
+        let first = String::from_utf8_lossy(first);
+        let expected = first.strip_prefix("# expect: ").unwrap_or_else(|| {
+            panic!(
+                "{}: first line must be `# expect: <message>`",
+                path.display()
+            )
+        });
+        match message(load(path)) {
+            None => failures.push(format!("{}: loaded without error", path.display())),
+            Some(got) if got != expected => failures.push(format!(
+                "{}:\n  expected: {expected}\n  got:      {got}",
+                path.display()
+            )),
+            Some(_) => {}
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} invalid scenes failed:\n{}",
+        failures.len(),
+        files.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn every_shipped_scene_loads_and_starts_with_a_comment_block() {
+    let files = toml_files("scenes");
+    assert!(files.len() >= 8, "{files:?}");
+    for path in &files {
+        let text = std::fs::read_to_string(path).expect("readable");
+        assert!(
+            text.starts_with('#'),
+            "{}: must start with a # comment block",
+            path.display()
+        );
+        let scene = load(path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!scene.notes.is_empty(), "{}: give notes", path.display());
+        assert_eq!(
+            scene.name,
+            path.file_stem().unwrap().to_string_lossy(),
+            "{}",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn the_default_scene_is_the_eggs() {
+    let scene = load_str(DEFAULT_SCENE, "<default>").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.bodies.len(), 2);
+    assert_eq!(scene.pairs, vec![[0, 1]]);
+}
+
+/// Every number of a scene, labelled, as bits.
+#[derive(Default)]
+struct Fingerprint(Vec<(String, u64)>);
+
+impl Fingerprint {
+    fn num(&mut self, label: String, x: f64) {
+        self.0.push((label, x.to_bits()));
+    }
+
+    fn vec3(&mut self, label: &str, v: &nudge::math::Vec3) {
+        for i in 0..3 {
+            self.num(format!("{label}[{i}]"), v[i]);
+        }
+    }
+
+    fn quat(&mut self, label: &str, q: &nalgebra::UnitQuaternion<f64>) {
+        for (i, x) in q.coords.iter().enumerate() {
+            self.num(format!("{label}[{i}]"), *x);
+        }
+    }
+
+    fn geometry(&mut self, label: &str, g: &Geometry) {
+        for (p, part) in g.parts.iter().enumerate() {
+            let l = format!("{label}.part[{p}]");
+            self.vec3(&format!("{l}.offset.t"), &part.offset.translation.vector);
+            self.quat(&format!("{l}.offset.q"), &part.offset.rotation);
+            match &part.kind {
+                PartKind::Ball { radius } => self.num(format!("{l}.radius"), *radius),
+                PartKind::Convex { vertices, edges } => {
+                    for (v, p) in vertices.iter().enumerate() {
+                        self.vec3(&format!("{l}.vertex[{v}]"), p);
+                    }
+                    self.num(format!("{l}.edges"), edges.len() as f64);
+                }
+                PartKind::HalfSpace { normal } => self.vec3(&format!("{l}.normal"), normal),
+                PartKind::Parabola {
+                    curvature,
+                    half_width,
+                } => {
+                    self.num(format!("{l}.curvature"), *curvature);
+                    self.num(format!("{l}.half_width"), *half_width);
+                }
+            }
+        }
+    }
+
+    fn of(s: &Scene) -> Fingerprint {
+        let mut f = Fingerprint::default();
+        f.num("duration".into(), s.duration);
+        f.vec3("gravity", &s.gravity);
+        f.num("rest_speed".into(), s.rest_speed);
+        match s.accuracy.method {
+            Method::Rk4 { step } => f.num("rk4.step".into(), step),
+            Method::Adaptive { tol, max_step } => {
+                f.num("adaptive.tol".into(), tol);
+                f.num("adaptive.max_step".into(), max_step);
+            }
+        }
+        f.num("root_tol".into(), s.accuracy.root_tol);
+        let sc = &s.scales;
+        for (k, v) in [
+            ("position", sc.position),
+            ("orientation", sc.orientation),
+            ("velocity", sc.velocity),
+            ("angular_velocity", sc.angular_velocity),
+            ("mass", sc.mass),
+            ("inertia", sc.inertia),
+            ("normal", sc.normal),
+            ("restitution", sc.restitution),
+        ] {
+            f.num(format!("scales.{k}"), v);
+        }
+        for b in &s.bodies {
+            let l = format!("body {}", b.name);
+            f.num(format!("{l}.mass"), b.mass);
+            f.vec3(&format!("{l}.inertia"), &b.inertia);
+            f.quat(&format!("{l}.inertia_axes"), &b.inertia_axes);
+            f.num(
+                format!("{l}.inertia_given"),
+                f64::from(u8::from(b.inertia_given)),
+            );
+            f.vec3(&format!("{l}.com_offset"), &b.com_offset);
+            f.vec3(&format!("{l}.position"), &b.position);
+            f.vec3(&format!("{l}.orientation"), &b.orientation);
+            f.vec3(&format!("{l}.velocity"), &b.velocity);
+            f.vec3(&format!("{l}.angular_velocity"), &b.angular_velocity);
+            f.num(format!("{l}.restitution"), b.restitution);
+            f.num(format!("{l}.friction"), b.friction);
+            f.num(format!("{l}.drag"), b.drag);
+            for (k, p) in b.traced.iter().enumerate() {
+                f.vec3(&format!("{l}.traced[{k}]"), p);
+            }
+            for block in &b.free {
+                f.num(format!("{l}.free.{}", block.name()), 1.0);
+            }
+            f.geometry(&l, &b.geometry);
+        }
+        for o in &s.obstacles {
+            let l = format!("obstacle {}", o.name);
+            f.vec3(&format!("{l}.pose.t"), &o.pose.translation.vector);
+            f.quat(&format!("{l}.pose.q"), &o.pose.rotation);
+            f.num(format!("{l}.restitution"), o.restitution);
+            f.num(format!("{l}.friction"), o.friction);
+            f.geometry(&l, &o.geometry);
+        }
+        for [i, j] in &s.pairs {
+            f.num(format!("pair {i} {j}"), 1.0);
+        }
+        for c in &s.event_controls {
+            let l = format!("event_control {}", c.event);
+            if let Some([a, b]) = c.normal {
+                f.num(format!("{l}.normal[0]"), a);
+                f.num(format!("{l}.normal[1]"), b);
+            }
+            if let Some(e) = c.restitution {
+                f.num(format!("{l}.restitution"), e);
+            }
+        }
+        for (k, c) in s.constraints.iter().enumerate() {
+            if let Some(t) = c.time {
+                f.num(format!("constraint {k}.time"), t);
+            }
+            for (i, x) in c.target.iter().enumerate() {
+                f.num(format!("constraint {k}.target[{i}]"), *x);
+            }
+        }
+        f
+    }
+}
+
+fn assert_same(a: &Scene, b: &Scene, what: &str) {
+    assert_eq!(a.name, b.name, "{what}: name");
+    assert_eq!(a.notes, b.notes, "{what}: notes");
+    assert_eq!(a.effects, b.effects, "{what}: effects");
+    assert_eq!(a.constraints, b.constraints, "{what}: constraints");
+    for (x, y) in a.bodies.iter().zip(&b.bodies) {
+        assert_eq!(x.name, y.name, "{what}");
+        assert_eq!(
+            x.shape_source, y.shape_source,
+            "{what}: body {} shape",
+            x.name
+        );
+    }
+    for (x, y) in a.obstacles.iter().zip(&b.obstacles) {
+        assert_eq!(x.name, y.name, "{what}");
+        assert_eq!(
+            x.shape_source, y.shape_source,
+            "{what}: obstacle {} shape",
+            x.name
+        );
+    }
+    let (fa, fb) = (Fingerprint::of(a).0, Fingerprint::of(b).0);
+    assert_eq!(fa.len(), fb.len(), "{what}: different number of fields");
+    for ((la, xa), (lb, xb)) in fa.iter().zip(&fb) {
+        assert_eq!(la, lb, "{what}: field order");
+        assert_eq!(
+            xa,
+            xb,
+            "{what}: {la} differs: {} vs {}",
+            f64::from_bits(*xa),
+            f64::from_bits(*xb)
+        );
+    }
+}
+
+#[test]
+fn every_shipped_scene_round_trips_bit_for_bit() {
+    for path in toml_files("scenes") {
+        let original = load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let text = to_toml(&original);
+        let again =
+            load_str(&text, &path.display().to_string()).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_same(&original, &again, &path.display().to_string());
+        assert_eq!(
+            to_toml(&again),
+            text,
+            "{}: saving is not idempotent",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn edited_scenes_round_trip_too() {
+    // Values the editor produces: arbitrary digits, a changed mass (so the
+    // inertia no longer follows from the shape), event controls, scales and
+    // constraints.
+    let mut scene = load(Path::new("scenes/eggs.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let b = &mut scene.bodies[0];
+    b.position.x += 0.1 / 3.0;
+    b.velocity *= 1.0 + 1e-13;
+    b.orientation = nudge::math::Vec3::new(0.7, -2.1, 1.9).normalize() * 2.9;
+    b.mass *= 1.25;
+    b.angular_velocity.z = -7.123_456_789_012_345;
+    scene.scales.velocity = 2.5;
+    scene.event_controls.push(nudge::scene::EventControl {
+        event: 3,
+        normal: Some([0.01, -1.0 / 7.0]),
+        restitution: Some(0.55),
+    });
+    scene.constraints.push(nudge::scene::ConstraintSpec {
+        kind: "nail".into(),
+        body: "egg1".into(),
+        other: None,
+        time: Some(2.0 / 3.0),
+        collision: None,
+        side: None,
+        quantities: vec![nudge::scene::StateQuantity::Position],
+        target: vec![0.1, -0.2, 1.0 / 3.0],
+    });
+    scene.accuracy.method = Method::Adaptive {
+        tol: 1e-10,
+        max_step: 0.004,
+    };
+    let text = to_toml(&scene);
+    let again = load_str(&text, "scenes/eggs.toml").unwrap_or_else(|e| panic!("{e}\n{text}"));
+    assert!(
+        again.bodies[0].inertia_given,
+        "an edited mass keeps the old inertia explicitly"
+    );
+    assert!(!again.bodies[1].inertia_given);
+    scene.bodies[0].inertia_given = true;
+    assert_same(&scene, &again, "edited eggs");
+}
+
+#[test]
+fn saved_text_is_readable() {
+    let scene = load(Path::new("scenes/eggs.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let text = to_toml(&scene);
+    if std::env::var_os("NUDGE_SHOW_SAVED").is_some() {
+        println!("{text}");
+    }
+    assert!(text.contains("\n[[body]]\nname = \"egg1\"\nshape = { type = \"egg\", radii = [0.05, 0.05, 0.07], bottom = 1.3 }\n"), "{text}");
+    assert!(
+        !text.contains("inertia"),
+        "inertia that follows from shape and mass is not written:\n{text}"
+    );
+    assert!(
+        text.contains("trace = [[0.0, 0.0, 0.07], [0.0, 0.0, -0.091]]"),
+        "traced points come back in the shape frame:\n{text}"
+    );
+}
+
+#[test]
+fn save_is_atomic_and_loads_back() {
+    let dir = std::env::temp_dir().join(format!("nudge-save-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("mug.toml");
+    let scene = load(Path::new("scenes/mug.toml")).unwrap_or_else(|e| panic!("{e}"));
+    save(&scene, &path).expect("saved");
+    save(&scene, &path).expect("saved over");
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name())
+        .collect();
+    assert_eq!(
+        names,
+        vec![std::ffi::OsString::from("mug.toml")],
+        "no temporary file is left behind"
+    );
+    let again = load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_same(&scene, &again, "saved mug");
+    std::fs::remove_dir_all(&dir).expect("cleaned up");
+}
+
+/// The size is checked before reading: the file here is sparse and full of
+/// NUL bytes, which would be a different error if it were read.
+#[test]
+fn an_oversized_file_is_refused_by_its_size() {
+    let dir = std::env::temp_dir().join(format!("nudge-large-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("huge.toml");
+    let file = std::fs::File::create(&path).expect("created");
+    file.set_len(16 * 1024 * 1024 + 1).expect("sized");
+    drop(file);
+    let got = message(load(&path)).expect("refused");
+    let expected = format!(
+        "{}: the scene file is too large: 16777217 bytes; scene files may be at most 16 MiB (16777216 bytes): check that this is the scene you meant",
+        path.display()
+    );
+    assert_eq!(got, expected);
+    std::fs::remove_dir_all(&dir).expect("cleaned up");
+}
+
+#[test]
+fn a_missing_file_names_the_path() {
+    let got =
+        message(load(Path::new("tests/invalid_scenes/does-not-exist.toml"))).expect("refused");
+    assert!(
+        got.starts_with("tests/invalid_scenes/does-not-exist.toml: cannot read the scene file: "),
+        "{got}"
+    );
+}
+
+/// No input may panic the loader: truncations of every shipped scene.
+#[test]
+fn truncated_scenes_fail_cleanly() {
+    for path in toml_files("scenes") {
+        let text = std::fs::read_to_string(&path).expect("readable");
+        let mut cut = text.len();
+        while cut > 0 {
+            cut = cut * 7 / 8;
+            while !text.is_char_boundary(cut) {
+                cut -= 1;
+            }
+            let _ = load_str(&text[..cut], "cut.toml");
+        }
+    }
+}
