@@ -1,0 +1,17 @@
+//! Headless key scripts: parse keystrokes written in vim notation and replay
+//! them through the very same key map, [`App`](crate::tui::App) and widgets
+//! as the terminal UI, on a ratatui `TestBackend`. This is how tests and
+//! benchmarks drive an editing session (DESIGN §1, §9).
+//!
+//! ```
+//! use nudge::script::parse_keys;
+//! let keys = parse_keys("5l <S-Left> :w<Space>out.toml<Enter>  # save", "demo.keys").unwrap();
+//! assert_eq!(keys.len(), 2 + 1 + 12);
+//! ```
+
+mod keys;
+mod runner;
+
+pub use crate::tui::{Key, KeyCode, Mods};
+pub use keys::{KeyScriptError, known_names, parse_keys};
+pub use runner::{FRAME_SECONDS, Latency, RunResult, latency, run_script};

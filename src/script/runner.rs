@@ -1,0 +1,192 @@
+//! Replay keys through the real App on a `TestBackend` and measure.
+
+use crate::edit::Core;
+use crate::tui::{App, Key, Theme, buffer_text, draw};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use ratatui::layout::Rect;
+
+/// Motion time the animation advances per key while playing (`p`), s. Key
+/// scripts have no wall clock, so playback is one 30 fps frame per key.
+pub const FRAME_SECONDS: f64 = 1.0 / 30.0;
+
+/// What a replay produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunResult {
+    /// The final screen: rows joined with `\n`, trailing spaces trimmed.
+    /// Frame render times are not shown on it, so it is deterministic for a
+    /// deterministic core.
+    pub screen: String,
+    /// Successful `core.apply` calls (every [`crate::edit::Edit`], selections included).
+    pub edits: usize,
+    /// Per key that reached the core: wall time of its `core.apply` calls
+    /// (and saves), ms.
+    pub update_ms: Vec<f64>,
+    /// Wall time of every frame render (one before the first key, one per
+    /// key), ms.
+    pub render_ms: Vec<f64>,
+    /// Whether a key quit the editor (the remaining keys were not replayed).
+    pub quit: bool,
+}
+
+/// Summary of a list of timings, ms.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Latency {
+    pub median: f64,
+    /// 95th percentile (nearest rank).
+    pub p95: f64,
+    pub max: f64,
+}
+
+/// Median, 95th percentile and maximum of `samples`, or `None` if there are
+/// none.
+pub fn latency(samples: &[f64]) -> Option<Latency> {
+    let mut s: Vec<f64> = samples.iter().copied().filter(|v| v.is_finite()).collect();
+    if s.is_empty() {
+        return None;
+    }
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    let median = if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        (s[n / 2 - 1] + s[n / 2]) / 2.0
+    };
+    let rank = ((0.95 * n as f64).ceil() as usize).clamp(1, n);
+    Some(Latency {
+        median,
+        p95: s[rank - 1],
+        max: s[n - 1],
+    })
+}
+
+impl RunResult {
+    /// Latency of the edits.
+    pub fn update_latency(&self) -> Option<Latency> {
+        latency(&self.update_ms)
+    }
+
+    /// Latency of the frame renders.
+    pub fn render_latency(&self) -> Option<Latency> {
+        latency(&self.render_ms)
+    }
+}
+
+/// Replay `keys` on a `size = (columns, rows)` screen: each key goes through
+/// the key map and the App exactly as typed in the terminal, its nudge (if
+/// any) is applied at once, and a frame is rendered. A quit key ends the
+/// run early.
+pub fn run_script(core: &mut impl Core, keys: &[Key], size: (u16, u16)) -> RunResult {
+    let (w, h) = size;
+    let mut app = App::new(&core.view(), Rect::new(0, 0, w, h), Theme::COLOR);
+    app.show_render_ms = false;
+    let mut terminal = match Terminal::new(TestBackend::new(w, h)) {
+        Ok(t) => t,
+        Err(never) => match never {},
+    };
+    let mut update_ms = Vec::new();
+    let mut render_ms = Vec::new();
+    if let Ok(ms) = draw(&mut terminal, core, &mut app) {
+        render_ms.push(ms);
+    }
+    for key in keys {
+        app.handle_key(core, *key);
+        app.flush(core);
+        app.tick(core, FRAME_SECONDS);
+        let applied = app.take_apply_ms();
+        if !applied.is_empty() {
+            update_ms.push(applied.iter().sum());
+        }
+        if let Ok(ms) = draw(&mut terminal, core, &mut app) {
+            render_ms.push(ms);
+        }
+        if app.quit {
+            break;
+        }
+    }
+    RunResult {
+        screen: buffer_text(terminal.backend().buffer()),
+        edits: app.edits(),
+        update_ms,
+        render_ms,
+        quit: app.quit,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::script::parse_keys;
+    use crate::tui::fixtures;
+
+    fn run(script: &str) -> (RunResult, fixtures::FakeCore) {
+        let mut core = fixtures::core();
+        let keys = parse_keys(script, "test").unwrap_or_default();
+        (run_script(&mut core, &keys, (80, 24)), core)
+    }
+
+    #[test]
+    fn latency_summary() {
+        assert_eq!(latency(&[]), None);
+        let l = latency(&[3.0, 1.0, 2.0, f64::NAN]).unwrap_or(Latency {
+            median: 0.0,
+            p95: 0.0,
+            max: 0.0,
+        });
+        assert_eq!((l.median, l.p95, l.max), (2.0, 3.0, 3.0));
+        let many: Vec<f64> = (1..=100).map(f64::from).collect();
+        assert_eq!(
+            latency(&many).map(|l| (l.median, l.p95)),
+            Some((50.5, 95.0))
+        );
+    }
+
+    #[test]
+    fn nan_tolerance_is_refused_in_the_status_line() {
+        let (r, core) = run(":set<Space>tol<Space>nan<Enter>");
+        assert!(
+            r.screen
+                .contains(":set tol nan: expected a finite positive number"),
+            "{}",
+            r.screen
+        );
+        assert!(core.log.is_empty() && r.edits == 0 && !r.quit);
+    }
+
+    #[test]
+    fn count_prefix_multiplies_a_nudge() {
+        let (r, core) = run("5l");
+        assert_eq!(r.edits, 1);
+        let step = fixtures::app(&fixtures::view(), 80, 24).step();
+        match core.log.as_slice() {
+            [crate::edit::Edit::Nudge { delta, .. }] => {
+                assert!((delta.x - 5.0 * step).abs() < 1e-12)
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(r.update_ms.len(), 1);
+        assert_eq!(r.render_ms.len(), 3);
+    }
+
+    #[test]
+    fn quit_ends_the_run_early() {
+        let (r, core) = run("q l l");
+        assert!(r.quit);
+        assert!(core.log.is_empty());
+    }
+
+    #[test]
+    fn dirty_quit_prompts_and_write_quit_saves() {
+        let (r, core) = run("l q");
+        assert!(!r.quit);
+        assert!(
+            r.screen.contains("unsaved edits, quit anyway?"),
+            "{}",
+            r.screen
+        );
+        let (r, core2) = run("l :wq<Space>out.toml<CR>");
+        assert!(r.quit);
+        assert_eq!(core2.saved, vec![Some("out.toml".into())]);
+        drop(core);
+    }
+}

@@ -1,0 +1,318 @@
+//! Pure rendering: widgets over a [`View`] and the [`App`]'s UI state.
+//! Nothing here changes state or runs the simulator.
+//!
+//! Layout at 80×24 (the design size):
+//!
+//! ```text
+//! ┌ scene · front ─────────────────────────────┐─ controls ────────────────
+//! │ braille canvas: obstacles, paths, bodies,   │ ● ball.v.x  1.25  +0.01  1
+//! │ events                                      │─ constraints ─────────────
+//! └─────────────────────────────────────────────┘▸nail  ball  t=1.25  3e-9
+//!  1.250 ─────────┼──────●───────┼──────────── 3.000   ← timeline
+//!  POS  ball  t=1.250  upd 3.1ms  r=3e-9 …                ← status
+//!  hjkl nudge  [] time  …     (or the message / : command line)
+//! ```
+
+mod help;
+mod panel;
+mod scene;
+mod status;
+mod timeline;
+
+pub use help::HelpPopup;
+pub use panel::{ConstraintsPanel, ControlsPanel};
+pub use scene::SceneCanvas;
+pub use status::{BottomLine, StatusLine};
+pub use timeline::Timeline;
+
+use super::app::{App, Input};
+use crate::view::View;
+use ratatui::buffer::Buffer;
+use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
+
+/// Smallest terminal the editor draws in; below it a notice is shown.
+pub const MIN_WIDTH: u16 = 60;
+pub const MIN_HEIGHT: u16 = 16;
+
+/// The screen's areas.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Areas {
+    /// The scene canvas, border included.
+    pub canvas: Rect,
+    /// The side panel (controls above constraints).
+    pub side: Rect,
+    pub timeline: Rect,
+    pub status: Rect,
+    /// Hints, messages, the command line or a prompt.
+    pub bottom: Rect,
+}
+
+/// Split the terminal area. The side panel is 35% of the width, 24 to 44
+/// columns (28 at 80 columns).
+pub fn areas(area: Rect) -> Areas {
+    let [main, timeline, status, bottom] = area.layout(&Layout::vertical([
+        Constraint::Fill(1),
+        Constraint::Length(1),
+        Constraint::Length(1),
+        Constraint::Length(1),
+    ]));
+    let side_w = (u32::from(area.width) * 35 / 100).clamp(24, 44) as u16;
+    let [canvas, side] = main.layout(&Layout::horizontal([
+        Constraint::Fill(1),
+        Constraint::Length(side_w),
+    ]));
+    Areas {
+        canvas,
+        side,
+        timeline,
+        status,
+        bottom,
+    }
+}
+
+/// The drawable inside of the canvas for a terminal of `area`.
+pub fn canvas_inner(area: Rect) -> Rect {
+    Block::bordered().inner(areas(area).canvas)
+}
+
+/// Whether `area` is below the minimum size.
+pub fn too_small(area: Rect) -> bool {
+    area.width < MIN_WIDTH || area.height < MIN_HEIGHT
+}
+
+/// The whole screen.
+#[derive(Debug, Clone, Copy)]
+pub struct Screen<'a> {
+    pub view: &'a View,
+    pub app: &'a App,
+}
+
+impl<'a> Screen<'a> {
+    pub fn new(view: &'a View, app: &'a App) -> Self {
+        Screen { view, app }
+    }
+}
+
+impl Widget for &Screen<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        if too_small(area) {
+            TooSmall.render(area, buf);
+            return;
+        }
+        let (view, app) = (self.view, self.app);
+        let a = areas(area);
+        let theme = app.theme;
+        SceneCanvas {
+            view,
+            camera: &app.camera,
+            theme,
+            playing: app.playing,
+        }
+        .render(a.canvas, buf);
+        let constraint_rows = view.constraints.len().max(1) as u16;
+        let [controls, constraints] = a.side.layout(&Layout::vertical([
+            Constraint::Fill(1),
+            Constraint::Length((constraint_rows + 1).min(a.side.height / 2).max(2)),
+        ]));
+        (&ControlsPanel { view, theme }).render(controls, buf);
+        let selected = app
+            .selected_constraint
+            .min(view.constraints.len().saturating_sub(1));
+        (&ConstraintsPanel {
+            view,
+            theme,
+            selected,
+        })
+            .render(constraints, buf);
+        (&Timeline { view, theme }).render(a.timeline, buf);
+        (&StatusLine { view, app }).render(a.status, buf);
+        (&BottomLine { view, app }).render(a.bottom, buf);
+        if let Input::Help { scroll } = app.input {
+            (&HelpPopup { theme, scroll }).render(area, buf);
+        }
+    }
+}
+
+/// The notice shown when the terminal is below [`MIN_WIDTH`]×[`MIN_HEIGHT`].
+#[derive(Debug, Clone, Copy)]
+pub struct TooSmall;
+
+impl TooSmall {
+    /// The notice for a terminal of `area`.
+    pub fn text(area: Rect) -> String {
+        format!(
+            "terminal too small:\nneed at least {MIN_WIDTH}x{MIN_HEIGHT}, have {}x{}",
+            area.width, area.height
+        )
+    }
+}
+
+impl Widget for TooSmall {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        if area.is_empty() {
+            return;
+        }
+        let text = TooSmall::text(area);
+        // Centre vertically when the wrapped text leaves room.
+        let lines: u16 = text
+            .lines()
+            .map(|l| (l.chars().count() as u16).div_ceil(area.width.max(1)))
+            .sum();
+        let top = area.height.saturating_sub(lines) / 2;
+        let inner = Rect {
+            y: area.y + top,
+            height: area.height - top,
+            ..area
+        };
+        Paragraph::new(text)
+            .alignment(Alignment::Center)
+            .wrap(Wrap { trim: true })
+            .render(inner, buf);
+    }
+}
+
+/// The buffer as plain text: rows joined with `\n`, trailing spaces trimmed.
+pub fn buffer_text(buf: &Buffer) -> String {
+    let area = buf.area;
+    let mut rows = Vec::with_capacity(area.height as usize);
+    for y in area.top()..area.bottom() {
+        let mut row = String::new();
+        for x in area.left()..area.right() {
+            row.push_str(buf[(x, y)].symbol());
+        }
+        rows.push(row.trim_end().to_string());
+    }
+    rows.join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tui::fixtures;
+    use ratatui::style::Color;
+
+    fn render(view: &View, app: &App, w: u16, h: u16) -> Buffer {
+        let area = Rect::new(0, 0, w, h);
+        let mut buf = Buffer::empty(area);
+        (&Screen::new(view, app)).render(area, &mut buf);
+        buf
+    }
+
+    #[test]
+    fn layout_at_80x24_gives_a_28_column_side_panel() {
+        let a = areas(Rect::new(0, 0, 80, 24));
+        assert_eq!(a.side.width, 28);
+        assert_eq!(a.canvas, Rect::new(0, 0, 52, 21));
+        assert_eq!((a.timeline.y, a.status.y, a.bottom.y), (21, 22, 23));
+    }
+
+    #[test]
+    fn tiny_areas_do_not_panic() {
+        let view = fixtures::view();
+        let app = fixtures::app(&view, 80, 24);
+        for (w, h) in [(0, 0), (1, 1), (10, 3), (0, 5), (5, 0), (59, 16), (60, 15)] {
+            let text = buffer_text(&render(&view, &app, w, h));
+            assert_eq!(text.split('\n').count(), h.max(1) as usize, "{w}x{h}");
+            if w >= 30 {
+                assert!(text.contains("terminal too small"), "{w}x{h}: {text}");
+            }
+        }
+    }
+
+    #[test]
+    fn too_small_names_both_sizes() {
+        let view = fixtures::view();
+        let app = fixtures::app(&view, 80, 24);
+        let text = buffer_text(&render(&view, &app, 40, 10));
+        assert!(
+            text.contains("terminal too small:") && text.contains("need at least"),
+            "{text}"
+        );
+        assert!(
+            text.contains("60x16") && text.contains("have 40x10"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn tiny_too_small_notice_is_clipped() {
+        let mut buf = Buffer::empty(Rect::new(0, 0, 10, 3));
+        TooSmall.render(buf.area, &mut buf);
+        let text = buffer_text(&buf);
+        let lines: Vec<&str> = text.lines().map(str::trim).collect();
+        assert_eq!(lines, ["terminal", "too small:", "need at"]);
+        assert!(TooSmall::text(buf.area).ends_with("need at least 60x16, have 10x3"));
+        let mut one = Buffer::empty(Rect::new(0, 0, 1, 1));
+        TooSmall.render(one.area, &mut one);
+        assert_eq!(buffer_text(&one), "t");
+    }
+
+    #[test]
+    fn full_screen_shows_every_part() {
+        let view = fixtures::view();
+        let app = fixtures::app(&view, 80, 24);
+        let text = buffer_text(&render(&view, &app, 80, 24));
+        for part in [
+            "bounce",
+            "front",
+            "controls",
+            "constraints",
+            "POS",
+            "ball",
+            "hjkl nudge",
+            "rk4 h=1e-3",
+        ] {
+            assert!(text.contains(part), "missing {part}:\n{text}");
+        }
+        assert!(
+            text.chars().any(|c| ('\u{2801}'..='\u{28ff}').contains(&c)),
+            "no braille:\n{text}"
+        );
+    }
+
+    #[test]
+    fn plain_theme_uses_no_colour_anywhere() {
+        let view = fixtures::view();
+        let mut app = fixtures::app(&view, 80, 24);
+        for input in [
+            Input::Normal,
+            Input::Help { scroll: 0 },
+            Input::Command("set".into()),
+        ] {
+            app.input = input;
+            let buf = render(&view, &app, 80, 24);
+            for cell in buf.content() {
+                assert_eq!((cell.fg, cell.bg), (Color::Reset, Color::Reset), "{cell:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn non_finite_numbers_never_reach_the_screen() {
+        let mut view = fixtures::view();
+        view.time = f64::NAN;
+        view.duration = f64::INFINITY;
+        view.status.residual = f64::NAN;
+        view.status.update_ms = f64::INFINITY;
+        view.status.step = f64::NEG_INFINITY;
+        for c in &mut view.controls {
+            c.value = f64::NAN;
+            c.delta = f64::INFINITY;
+            c.scale = f64::NAN;
+        }
+        for c in &mut view.constraints {
+            c.residual = f64::NAN;
+        }
+        view.paths[0]
+            .points
+            .push(crate::math::Vec3::new(f64::NAN, f64::INFINITY, 0.0));
+        view.events[0].t = f64::NAN;
+        let app = fixtures::app(&view, 80, 24);
+        for (w, h) in [(80, 24), (120, 40), (60, 16)] {
+            let text = buffer_text(&render(&view, &app, w, h));
+            assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+            assert!(text.contains('—'), "{text}");
+        }
+    }
+}

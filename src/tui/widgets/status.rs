@@ -1,0 +1,159 @@
+//! The status line (mode, body, time, timings, residual, step, pops/blocks,
+//! accuracy) and the bottom line (hints from the key map, the latest
+//! message, the `:` command line or a prompt).
+
+use crate::scene::StateQuantity;
+use crate::tui::app::{App, Input, Level};
+use crate::tui::format::{ms, num, scrub, truncate};
+use crate::tui::keymap::{self, Context};
+use crate::view::View;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::style::{Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Widget;
+
+/// ` POS  ball t=1.250 upd 3.1ms r=3e-9 ε=1 δ=0.01 pop 0 blk 0 rk4 h=1e-3`
+#[derive(Debug, Clone, Copy)]
+pub struct StatusLine<'a> {
+    pub view: &'a View,
+    pub app: &'a App,
+}
+
+/// The badge text of a nudge mode.
+pub fn mode_label(q: StateQuantity) -> &'static str {
+    match q {
+        StateQuantity::Position => "POS",
+        StateQuantity::Orientation => "ORI",
+        StateQuantity::Velocity => "VEL",
+        StateQuantity::AngularVelocity => "ANG",
+    }
+}
+
+impl Widget for &StatusLine<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        let (v, app) = (self.view, self.app);
+        let theme = app.theme;
+        let dim = theme.dim();
+        let body = v.bodies.get(v.selected).map_or("—", String::as_str);
+        let mut spans = vec![
+            Span::styled(
+                format!(" {} ", mode_label(app.mode)),
+                theme.selected().add_modifier(Modifier::BOLD),
+            ),
+            Span::styled(format!(" {}", truncate(body, 12)), theme.title()),
+            Span::styled(" t=", dim),
+            Span::raw(num(v.time, 7)),
+            Span::styled(" upd ", dim),
+            Span::raw(format!("{}ms", ms(v.status.update_ms))),
+        ];
+        if let (true, Some(r)) = (app.show_render_ms, app.render_ms) {
+            spans.push(Span::styled(" draw ", dim));
+            spans.push(Span::raw(format!("{}ms", ms(r))));
+        }
+        spans.extend([
+            Span::styled(" r=", dim),
+            Span::raw(num(v.status.residual, 7)),
+            Span::styled(" ε=", dim),
+            Span::raw(num(v.status.step, 5)),
+            Span::styled(" δ=", dim),
+            Span::raw(num(app.step(), 6)),
+            Span::styled(" pop ", dim),
+            Span::raw(v.status.pops.to_string()),
+            Span::styled(" blk ", dim),
+            Span::raw(v.status.blocks.to_string()),
+            Span::raw(format!(" {}", scrub(&v.status.accuracy))),
+        ]);
+        if let Some(n) = app.count {
+            spans.push(Span::styled(format!(" {n}…"), theme.changed()));
+        }
+        Line::from(spans).render(area, buf);
+    }
+}
+
+/// The bottom line.
+#[derive(Debug, Clone, Copy)]
+pub struct BottomLine<'a> {
+    pub view: &'a View,
+    pub app: &'a App,
+}
+
+impl BottomLine<'_> {
+    fn hints(&self, context: Context, prefix: &str, width: usize) -> Line<'static> {
+        let theme = self.app.theme;
+        let room = width.saturating_sub(prefix.chars().count() + 1);
+        let text = keymap::hints(context, room);
+        // Style the keys of each `keys label` pair.
+        let mut spans = vec![Span::raw(format!(" {prefix}"))];
+        for (i, item) in text.split("  ").enumerate() {
+            if i > 0 {
+                spans.push(Span::raw("  "));
+            }
+            match item.split_once(' ') {
+                Some((keys, label)) => {
+                    spans.push(Span::styled(keys.to_string(), theme.key()));
+                    spans.push(Span::styled(format!(" {label}"), theme.dim()));
+                }
+                None => spans.push(Span::raw(item.to_string())),
+            }
+        }
+        Line::from(spans)
+    }
+}
+
+impl Widget for &BottomLine<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        let (v, app) = (self.view, self.app);
+        let theme = app.theme;
+        let width = area.width as usize;
+        let line = match &app.input {
+            Input::Command(text) => {
+                // Keep the end of a long command (where the cursor is) visible.
+                let room = width.saturating_sub(2);
+                let skip = text.chars().count().saturating_sub(room);
+                let shown: String = text.chars().skip(skip).collect();
+                Line::from(vec![
+                    Span::raw(format!(":{shown}")),
+                    Span::styled(" ", Style::new().add_modifier(Modifier::REVERSED)),
+                ])
+            }
+            Input::Prompt => self.hints(Context::Prompt, "unsaved edits, quit anyway?  ", width),
+            Input::Block => {
+                let body = v.bodies.get(v.selected).map_or("—", String::as_str);
+                self.hints(
+                    Context::Block,
+                    &format!("free/fix which block of {body}?  "),
+                    width,
+                )
+            }
+            Input::Help { .. } => self.hints(Context::Help, "", width),
+            Input::Normal => {
+                let core_message = v
+                    .status
+                    .message
+                    .as_ref()
+                    .map(|m| (m.as_str(), Level::Warning));
+                match app
+                    .message
+                    .as_ref()
+                    .map(|m| (m.text.as_str(), m.level))
+                    .or(core_message)
+                {
+                    Some((text, level)) => {
+                        let style = match level {
+                            Level::Info => theme.info(),
+                            Level::Warning => theme.changed(),
+                            Level::Error => theme.error(),
+                        };
+                        Line::styled(
+                            format!(" {}", truncate(text, width.saturating_sub(1))),
+                            style,
+                        )
+                    }
+                    None => self.hints(Context::Normal, "", width),
+                }
+            }
+        };
+        line.render(area, buf);
+    }
+}
