@@ -1,6 +1,10 @@
 //! Editing: every user intent is an [`Edit`], applied atomically through
 //! [`Core::apply`]. The TUI and the headless runner both drive the same core.
 
+mod editor;
+
+pub use editor::Editor;
+
 use crate::math::Vec3;
 use crate::scene::{Accuracy, Block, StateQuantity};
 use crate::view::View;

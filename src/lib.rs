@@ -8,10 +8,14 @@
 
 pub mod geometry;
 pub mod math;
+pub mod report;
 pub mod scene;
 pub mod sim;
+pub mod bench;
 pub mod controls;
 pub mod edit;
+pub mod solve;
+pub mod svg;
 pub mod tangent;
 pub mod testkit;
 pub mod view;

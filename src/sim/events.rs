@@ -83,6 +83,67 @@ impl World<'_> {
         (s.v.norm() + ang * d.reach, self.traj.gravity.norm())
     }
 
+    /// A safe advance for a body against a plane, vertex by vertex: each
+    /// point's height `h` obeys `h(t+τ) ≥ h + ḣ τ − ½ B τ²` with `B` bounding
+    /// its acceleration along the normal (gravity, drag, centripetal and
+    /// angular acceleration), so no point reaches the plane before the
+    /// smallest positive root. Much larger than the speed-bound step when a
+    /// body separates slowly after a bounce. `None` unless `b` is a plane.
+    fn plane_step(&self, pair: &Pair, sa: &Option<BodyState>, skin: f64) -> Option<f64> {
+        let Party::Obstacle(o) = pair.b else { return None };
+        let obstacle = &self.scene.obstacles[o];
+        let [part] = obstacle.geometry.parts.as_slice() else { return None };
+        let crate::geometry::PartKind::HalfSpace { normal } = part.kind else { return None };
+        let s = sa.as_ref()?;
+        let pose = obstacle.pose * part.offset;
+        let n = pose.rotation * normal;
+        let p0 = pose.translation.vector;
+        let d = &self.traj.dynamics[pair.a];
+        let (w_max, alpha) = if d.integrate {
+            let r = *s.q.to_rotation_matrix().matrix();
+            let w = (r * d.inertia * r.transpose() * s.w).norm() / d.principal.min();
+            (w, w * w * d.principal.max() / d.principal.min())
+        } else {
+            (s.w.norm(), 0.0)
+        };
+        let g = self.traj.gravity;
+        let lin = n.dot(&g).abs() + d.drag_k.unwrap_or(0.0) * (s.v.norm() + g.norm());
+        let mut best = f64::INFINITY;
+        for p in &self.scene.bodies[pair.a].geometry.parts {
+            let points: Vec<(Vec3, f64)> = match &p.kind {
+                crate::geometry::PartKind::Ball { radius } => vec![(p.offset.translation.vector, *radius)],
+                crate::geometry::PartKind::Convex { .. } => p.vertices().into_iter().map(|v| (v, 0.0)).collect(),
+                _ => return None,
+            };
+            for (local, radius) in points {
+                let r = s.q * local;
+                let h = n.dot(&(s.x + r - p0)) - radius + skin;
+                let hd = n.dot(&(s.v + s.w.cross(&r)));
+                if h <= 0.0 && hd <= 0.0 {
+                    return Some(0.0);
+                }
+                let bb = lin + (w_max * w_max + alpha) * r.norm();
+                // The later root of h + ḣ τ − ½ B τ² = 0: the next downward
+                // crossing (also for a point just below the plane rising out).
+                let disc = hd * hd + 2.0 * bb * h;
+                let tau = if bb > 0.0 {
+                    if disc < 0.0 {
+                        return Some(0.0);
+                    }
+                    (hd + disc.sqrt()) / bb
+                } else if h <= 0.0 {
+                    return Some(0.0);
+                } else if hd < 0.0 {
+                    h / -hd
+                } else {
+                    f64::INFINITY
+                };
+                best = best.min(tau);
+            }
+        }
+        Some(best)
+    }
+
     /// Contact of a pair at time `t`, with the relative normal velocity at
     /// the witness points (negative when approaching).
     pub fn contact(&self, pair: &Pair, t: f64, max_distance: f64) -> Option<(Contact, f64)> {
@@ -198,7 +259,17 @@ impl World<'_> {
             }
             // Largest safe advance; inside the contact band, step just past it.
             let gap = if e > hit { e - 0.5 * hit } else { (2.0 * hit - e).max(hit) };
-            let tau = 2.0 * gap / (a + (a * a + 4.0 * b * gap).sqrt());
+            let mut tau = 2.0 * gap / (a + (a * a + 4.0 * b * gap).sqrt());
+            if e > hit {
+                if let Some(tp) = self.plane_step(pair, &sa, -0.5 * hit) {
+                    if tp > tau {
+                        // Every point's next descent to the plane is bounded:
+                        // the contact just resolved is behind us, so re-arm.
+                        tau = tp;
+                        skin = 0.0;
+                    }
+                }
+            }
             t += tau.max(f64::EPSILON * t.abs().max(1.0));
             if t > t1 {
                 return None;

@@ -209,17 +209,29 @@ impl Step {
     /// Dormand–Prince dense output, or for RK4 a fresh step of length `t − t0`
     /// (both as accurate as the step itself).
     pub fn at(&self, d: &BodyDynamics, t: f64, evals: &mut u64) -> (UnitQuaternion<f64>, Vec<f64>) {
+        self.at_len(d, t, evals, self.z0.len())
+    }
+
+    /// As [`Step::at`] for the state part only (`w`, `θ`): the state does not
+    /// depend on the tangent, so this gives the same numbers at a fraction of
+    /// the cost (used by the event search).
+    pub fn at_state(&self, d: &BodyDynamics, t: f64, evals: &mut u64) -> (UnitQuaternion<f64>, Vec<f64>) {
+        self.at_len(d, t, evals, Z_STATE)
+    }
+
+    fn at_len(&self, d: &BodyDynamics, t: f64, evals: &mut u64, n: usize) -> (UnitQuaternion<f64>, Vec<f64>) {
+        let n = n.min(self.z0.len());
         let tau = t - self.t0;
         if tau <= 0.0 {
-            return (self.q0, self.z0.clone());
+            return (self.q0, self.z0[..n].to_vec());
         }
         if tau >= self.h {
-            return (advance(&self.q0, &self.z1), self.z1.clone());
+            return (advance(&self.q0, &self.z1), self.z1[..n].to_vec());
         }
         let z = if self.adaptive {
             let s = tau / self.h;
             let s1 = 1.0 - s;
-            let mut z = vec![0.0; self.z0.len()];
+            let mut z = vec![0.0; n];
             for (i, zi) in z.iter_mut().enumerate() {
                 let y0 = self.z0[i];
                 let y1 = self.z1[i];
@@ -231,7 +243,7 @@ impl Step {
             }
             z
         } else {
-            rk_step(&RK4, d, &self.z0, tau, evals).0
+            rk_step(&RK4, d, &self.z0[..n], tau, evals).0
         };
         (advance(&self.q0, &z), z)
     }

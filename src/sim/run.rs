@@ -544,7 +544,11 @@ impl Sim<'_> {
         let jac = ctx.jacobian();
         let eq = jac.view((0, 0), (1, ns)).into_owned();
         let denom = (&eq * &fpre)[(0, 0)];
-        let ratio = denom.abs() / (eq.norm() * fpre.norm());
+        // Grazing measure: the cosine between E_q and the configuration part
+        // of F (velocities; E does not depend on them, so including the
+        // accelerations would only mix units into the ratio).
+        let config: f64 = (0..ns).filter(|r| r % 12 < 6).map(|r| fpre[r] * fpre[r]).sum::<f64>().sqrt();
+        let ratio = denom.abs() / (eq.norm() * config);
         if !ratio.is_finite() {
             return Err(nonfinite(ratio));
         }

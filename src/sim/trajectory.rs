@@ -160,8 +160,9 @@ impl Trajectory {
         if i == 0 { None } else { Some(&seg.steps[i - 1]) }
     }
 
-    /// Rotation state (q, world ω) and the integrated vector at `t` in a segment.
-    fn rotation(&self, body: usize, seg: &Segment, t: f64) -> (BodyState, Option<Vec<f64>>) {
+    /// Rotation state (q, world ω) and the integrated vector at `t` in a
+    /// segment; with `full` the vector includes the tangent block.
+    fn rotation(&self, body: usize, seg: &Segment, t: f64, full: bool) -> (BodyState, Option<Vec<f64>>) {
         let d = &self.dynamics[body];
         let s0 = &seg.start;
         let tau = t - seg.t0;
@@ -183,7 +184,7 @@ impl Trajectory {
             None => (BodyState { x: tr.x, v: tr.v, ..*s0 }, None),
             Some(step) => {
                 let mut evals = 0;
-                let (q, z) = step.at(d, t, &mut evals);
+                let (q, z) = if full { step.at(d, t, &mut evals) } else { step.at_state(d, t, &mut evals) };
                 Counters::bump(&self.counters.gyroscopic, evals);
                 let w = q * body_rate(&z);
                 (BodyState { x: tr.x, q, v: tr.v, w }, Some(z))
@@ -195,7 +196,7 @@ impl Trajectory {
     /// pre- or post-impulse limit).
     pub fn state(&self, body: usize, t: f64, side: StateSide) -> BodyState {
         let i = self.segment_index(body, t, side);
-        self.rotation(body, &self.tracks[body].segments[i], t).0
+        self.rotation(body, &self.tracks[body].segments[i], t, false).0
     }
 
     /// Whether Jacobians are available at time `t`.
@@ -253,7 +254,7 @@ impl Trajectory {
             j.rows_mut(9, 3).copy_from(&jw0);
             return j;
         }
-        let (st, z) = self.rotation(body, seg, t);
+        let (st, z) = self.rotation(body, seg, t, true);
         let y = match z {
             Some(z) => tangent_block(&z),
             None => {

@@ -1,0 +1,631 @@
+//! The one editing core: owns the scene (and so the control vector), the
+//! constraints, the current motion and the undo history. Every change goes
+//! through [`Core::apply`] and is atomic.
+
+use super::{Core, Edit, EditError, Expression, Outcome, Side};
+use crate::controls::Controls;
+use crate::math::{Vec3, exp_so3, log_so3};
+use crate::report::{self, ConstraintRow};
+use crate::scene::{self, Accuracy, ConstraintSpec, EventControl, Method, Scene, StateQuantity};
+use crate::sim::{Party, SimOptions, StateSide, Trajectory, simulate};
+use crate::solve::{self, Anchor, Constraint, Diagnostic, Kind, UpdateOptions};
+use crate::view::{self, View};
+use nalgebra::{Isometry3, Point3, Translation3};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What undo and redo restore.
+#[derive(Clone)]
+struct Snapshot {
+    scene: Scene,
+    constraints: Vec<Constraint>,
+}
+
+/// The editor core.
+pub struct Editor {
+    scene: Scene,
+    path: Option<PathBuf>,
+    controls: Controls,
+    constraints: Vec<Constraint>,
+    traj: Trajectory,
+    selected: usize,
+    time: f64,
+    undo: Vec<Snapshot>,
+    redo: Vec<Snapshot>,
+    revision: u64,
+    saved_revision: u64,
+    /// Change of every control entry made by the last edit.
+    last_delta: Vec<f64>,
+    status: view::Status,
+    /// Wall time of every differential update, ms.
+    update_ms: Vec<f64>,
+    updates: usize,
+    edits: usize,
+    opts: UpdateOptions,
+    paths: Vec<view::Path>,
+    obstacle_lines: Vec<(Vec3, Vec3)>,
+}
+
+fn invalid(msg: impl Into<String>) -> EditError {
+    EditError::Invalid(msg.into())
+}
+
+fn finite3(v: &Vec3, what: &str) -> Result<(), EditError> {
+    if v.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(invalid(format!("{what} must be finite numbers, got [{}, {}, {}]", v.x, v.y, v.z))) }
+}
+
+fn simulate_with_tangent(scene: &Scene, controls: &Controls) -> Result<Trajectory, EditError> {
+    simulate(scene, controls, &SimOptions::default()).map_err(|e| invalid(e.to_string()))
+}
+
+impl Editor {
+    /// Open a scene for editing (`path` is where `:w` saves by default).
+    pub fn new(scene: Scene, path: Option<PathBuf>) -> Result<Editor, EditError> {
+        let controls = Controls::new(&scene);
+        let traj = simulate_with_tangent(&scene, &controls)?;
+        let constraints = scene.constraints.iter().filter_map(|c| from_spec(&scene, c)).collect();
+        let accuracy = scene.accuracy.label();
+        let mut e = Editor {
+            last_delta: vec![0.0; controls.entries.len()],
+            scene,
+            path,
+            controls,
+            constraints,
+            traj,
+            selected: 0,
+            time: 0.0,
+            undo: Vec::new(),
+            redo: Vec::new(),
+            revision: 0,
+            saved_revision: 0,
+            status: view::Status { accuracy, step: 1.0, ..Default::default() },
+            update_ms: Vec::new(),
+            updates: 0,
+            edits: 0,
+            opts: UpdateOptions::default(),
+            paths: Vec::new(),
+            obstacle_lines: Vec::new(),
+        };
+        e.refresh_geometry();
+        e.status.residual = e.residual();
+        Ok(e)
+    }
+
+    /// Open a scene file.
+    pub fn open(path: &Path) -> Result<Editor, EditError> {
+        let scene = scene::load(path).map_err(|e| invalid(e.to_string()))?;
+        Editor::new(scene, Some(path.to_path_buf()))
+    }
+
+    /// The scene being edited.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The current motion (with tangents).
+    pub fn trajectory(&self) -> &Trajectory {
+        &self.traj
+    }
+
+    /// The control layout.
+    pub fn controls(&self) -> &Controls {
+        &self.controls
+    }
+
+    /// The constraints (nails, floating, expressions).
+    pub fn constraints(&self) -> &[Constraint] {
+        &self.constraints
+    }
+
+    /// Wall times of all differential updates so far, ms.
+    pub fn update_times(&self) -> &[f64] {
+        &self.update_ms
+    }
+
+    /// Number of differential updates performed so far.
+    pub fn updates(&self) -> usize {
+        self.updates
+    }
+
+    /// Current selection: body and time.
+    pub fn selection(&self) -> (usize, f64) {
+        (self.selected, self.time)
+    }
+
+    fn residual(&self) -> f64 {
+        solve::residual_norm(&self.traj, &self.constraints)
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        Snapshot { scene: self.scene.clone(), constraints: self.constraints.clone() }
+    }
+
+    /// Rebuild the control layout and the motion after the scene changed.
+    fn rebuild(&mut self) -> Result<(), EditError> {
+        let controls = Controls::new(&self.scene);
+        let traj = simulate_with_tangent(&self.scene, &controls)?;
+        if controls.entries.len() != self.last_delta.len() {
+            self.last_delta = vec![0.0; controls.entries.len()];
+        }
+        self.controls = controls;
+        self.traj = traj;
+        self.refresh_geometry();
+        Ok(())
+    }
+
+    fn restore(&mut self, s: Snapshot) -> Result<(), EditError> {
+        self.scene = s.scene;
+        self.constraints = s.constraints;
+        self.rebuild()
+    }
+
+    /// Record a completed change for undo.
+    fn commit(&mut self, before: Snapshot, old_values: Vec<f64>) {
+        self.undo.push(before);
+        self.redo.clear();
+        self.revision += 1;
+        self.last_delta = (0..self.controls.entries.len())
+            .map(|i| self.controls.get(&self.scene, i) - old_values.get(i).copied().unwrap_or(f64::NAN))
+            .map(|d| if d.is_finite() { d } else { 0.0 })
+            .collect();
+    }
+
+    fn values(&self) -> Vec<f64> {
+        (0..self.controls.entries.len()).map(|i| self.controls.get(&self.scene, i)).collect()
+    }
+
+    fn refresh_geometry(&mut self) {
+        let mut paths = Vec::new();
+        for (i, b) in self.scene.bodies.iter().enumerate() {
+            for p in &b.traced {
+                paths.push(view::Path { body: i, points: self.traj.path(i, p, 240).into_iter().map(|(_, x)| x).collect() });
+            }
+        }
+        self.paths = paths;
+        let extent = self.extent();
+        self.obstacle_lines = self
+            .scene
+            .obstacles
+            .iter()
+            .flat_map(|o| o.geometry.outline(extent).into_iter().map(move |(a, b)| ((o.pose * Point3::from(a)).coords, (o.pose * Point3::from(b)).coords)))
+            .collect();
+    }
+
+    /// Half-size of the region the motion covers (for drawing planes).
+    fn extent(&self) -> f64 {
+        let mut r: f64 = 1.0;
+        for p in &self.paths {
+            for x in &p.points {
+                r = r.max(x.x.abs()).max(x.y.abs());
+            }
+        }
+        1.2 * r
+    }
+
+    fn body_lines(&self, i: usize) -> Vec<(Vec3, Vec3)> {
+        let s = self.traj.state(i, self.time, StateSide::After);
+        let iso = Isometry3::from_parts(Translation3::from(s.x), s.q);
+        self.scene.bodies[i].geometry.outline(1.0).into_iter().map(|(a, b)| ((iso * Point3::from(a)).coords, (iso * Point3::from(b)).coords)).collect()
+    }
+
+    /// The selected body's events, nearest to the current time first.
+    fn nearest_collision(&self) -> Option<(usize, usize)> {
+        let events = self.traj.body_events(self.selected);
+        events
+            .iter()
+            .enumerate()
+            .min_by(|a, b| (a.1.t - self.time).abs().total_cmp(&(b.1.t - self.time).abs()))
+            .map(|(k, e)| (k, e.index))
+    }
+
+    /// One differential update towards `constraints`; applies it when it
+    /// lowers the residual. Returns the diagnostics.
+    fn step(&mut self, constraints: &[Constraint]) -> Result<(bool, Vec<Diagnostic>, f64), EditError> {
+        let start = Instant::now();
+        let res = solve::update(&self.scene, &self.controls, &self.traj, constraints, &self.opts).map_err(|e| invalid(e.to_string()))?;
+        let moved = res.trajectory.is_some();
+        if moved {
+            self.controls.write(&mut self.scene, &res.u);
+            self.traj = simulate_with_tangent(&self.scene, &self.controls)?;
+        }
+        self.updates += 1;
+        self.update_ms.push(start.elapsed().as_secs_f64() * 1e3);
+        for d in &res.diagnostics {
+            match d {
+                Diagnostic::Pop { .. } => self.status.pops += 1,
+                Diagnostic::Blocked => self.status.blocks += 1,
+                _ => {}
+            }
+        }
+        self.status.step = res.step;
+        self.status.update_ms = *self.update_ms.last().unwrap_or(&0.0);
+        Ok((moved, res.diagnostics, res.after))
+    }
+
+    fn nudge(&mut self, quantity: StateQuantity, delta: Vec3) -> Result<Vec<Diagnostic>, EditError> {
+        finite3(&delta, "a nudge")?;
+        if self.controls.m() == 0 {
+            return Err(invalid(format!(
+                "no free controls: free a block of {} first (b then p/o/v/w, or :free {} velocity)",
+                self.scene.bodies[self.selected].name, self.scene.bodies[self.selected].name
+            )));
+        }
+        let s = self.traj.state(self.selected, self.time, StateSide::After);
+        let target: Vec3 = match quantity {
+            StateQuantity::Position => s.x + delta,
+            StateQuantity::Orientation => log_so3(&(exp_so3(&delta) * s.q)),
+            StateQuantity::Velocity => s.v + delta,
+            StateQuantity::AngularVelocity => s.w + delta,
+        };
+        let drag = Constraint {
+            body: self.selected,
+            anchor: Anchor::Time(self.time),
+            kind: Kind::State { quantities: vec![quantity], target: target.iter().cloned().collect() },
+            drag: true,
+        };
+        let mut all = self.constraints.clone();
+        all.push(drag);
+        let (_, diags, _) = self.step(&all)?;
+        Ok(diags)
+    }
+
+    fn settle(&mut self, budget_ms: u64) -> Result<Vec<Diagnostic>, EditError> {
+        let start = Instant::now();
+        let mut diags = Vec::new();
+        let mut last = self.residual();
+        while start.elapsed().as_millis() < u128::from(budget_ms.max(1)) {
+            if last < 1e-10 || self.constraints.is_empty() {
+                break;
+            }
+            let constraints = self.constraints.clone();
+            let (moved, d, after) = self.step(&constraints)?;
+            diags = d;
+            if !moved || after > 0.999 * last {
+                break;
+            }
+            last = after;
+        }
+        Ok(diags)
+    }
+
+    fn apply_inner(&mut self, edit: Edit) -> Result<Outcome, EditError> {
+        let started = Instant::now();
+        let updates0 = self.updates;
+        let before = self.snapshot();
+        let old_values = self.values();
+        let mut changed = true;
+        let mut diagnostics: Vec<String> = Vec::new();
+        match edit {
+            Edit::SelectBody(i) => {
+                if i >= self.scene.bodies.len() {
+                    return Err(invalid(format!("no body {i}: the scene has {} bodies", self.scene.bodies.len())));
+                }
+                self.selected = i;
+                changed = false;
+            }
+            Edit::SelectTime(t) => {
+                if !t.is_finite() {
+                    return Err(invalid(format!("time must be a finite number of seconds, got {t}")));
+                }
+                self.time = t.clamp(0.0, self.scene.duration);
+                changed = false;
+            }
+            Edit::SelectEvent(k) => {
+                let e = self.traj.events.get(k).ok_or_else(|| invalid(format!("no event {k}: the motion has {} events", self.traj.events.len())))?;
+                self.time = e.t;
+                changed = false;
+            }
+            Edit::Nudge { quantity, delta } => {
+                let d = self.nudge(quantity, delta)?;
+                diagnostics.extend(d.iter().map(|x| x.to_string()));
+                changed = self.updates > updates0 && self.values() != old_values;
+            }
+            Edit::Nail { quantities } => {
+                let quantities = if quantities.is_empty() { StateQuantity::ALL.to_vec() } else { quantities };
+                let s = self.traj.state(self.selected, self.time, StateSide::After);
+                let target = Constraint::current_values(&s, &quantities);
+                self.constraints.push(Constraint { body: self.selected, anchor: Anchor::Time(self.time), kind: Kind::State { quantities, target }, drag: false });
+            }
+            Edit::Float { quantities, side } => {
+                let quantities = if quantities.is_empty() { StateQuantity::ALL.to_vec() } else { quantities };
+                let (k, global) = self.nearest_collision().ok_or_else(|| invalid(format!("{} has no collision to float a constraint on", self.scene.bodies[self.selected].name)))?;
+                let e = &self.traj.events[global];
+                let s = self.traj.state(self.selected, e.t, if side == Side::Pre { StateSide::Before } else { StateSide::After });
+                let target = Constraint::current_values(&s, &quantities);
+                self.constraints.push(Constraint { body: self.selected, anchor: Anchor::Event { collision: k, side }, kind: Kind::State { quantities, target }, drag: false });
+            }
+            Edit::Expression(x) => {
+                let n = self.scene.bodies.len();
+                let kind = match x {
+                    Expression::EqualSpeed { other } if other < n => Kind::EqualSpeed { other },
+                    Expression::AngularSpeed { value } if value.is_finite() && value >= 0.0 => Kind::AngularSpeed { value },
+                    Expression::PointOnPlane { point, normal, offset } if normal.norm() > 0.0 && offset.is_finite() => {
+                        finite3(&point, "the point")?;
+                        finite3(&normal, "the plane normal")?;
+                        Kind::PointOnPlane { point, normal, offset }
+                    }
+                    Expression::Distance { other, point, other_point, value } if other < n && value.is_finite() && value >= 0.0 => {
+                        finite3(&point, "the point")?;
+                        finite3(&other_point, "the other point")?;
+                        Kind::Distance { other, point, other_point, value }
+                    }
+                    other => return Err(invalid(format!("invalid expression constraint {other:?}: bodies must exist and values be finite and non-negative"))),
+                };
+                self.constraints.push(Constraint { body: self.selected, anchor: Anchor::Time(self.time), kind, drag: false });
+            }
+            Edit::RemoveConstraint(i) => {
+                if i >= self.constraints.len() {
+                    return Err(invalid(format!("no constraint {i}: there are {}", self.constraints.len())));
+                }
+                self.constraints.remove(i);
+            }
+            Edit::SetBlock { body, block, free } => {
+                let b = self.scene.bodies.get_mut(body).ok_or_else(|| invalid(format!("no body {body}")))?;
+                b.free.retain(|x| *x != block);
+                if free {
+                    b.free.push(block);
+                    b.free.sort();
+                }
+                self.rebuild()?;
+            }
+            Edit::AddEventControls { normal, restitution } => {
+                let (_, global) = self.nearest_collision().ok_or_else(|| invalid(format!("{} has no collision to add controls at", self.scene.bodies[self.selected].name)))?;
+                let e_used = self.traj.events[global].restitution;
+                let c = match self.scene.event_controls.iter_mut().find(|c| c.event == global) {
+                    Some(c) => c,
+                    None => {
+                        self.scene.event_controls.push(EventControl { event: global, normal: None, restitution: None });
+                        self.scene.event_controls.last_mut().ok_or_else(|| invalid("internal: event control"))?
+                    }
+                };
+                if normal && c.normal.is_none() {
+                    c.normal = Some([0.0, 0.0]);
+                }
+                if restitution && c.restitution.is_none() {
+                    c.restitution = Some(e_used);
+                }
+                self.rebuild()?;
+            }
+            Edit::SetScale { kind, value } => {
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(invalid(format!("scale must be a finite number > 0, got {value}")));
+                }
+                let s = &mut self.scene.scales;
+                match kind.as_str() {
+                    "position" => s.position = value,
+                    "orientation" => s.orientation = value,
+                    "velocity" => s.velocity = value,
+                    "angular_velocity" => s.angular_velocity = value,
+                    "mass" => s.mass = value,
+                    "inertia" => s.inertia = value,
+                    "normal" => s.normal = value,
+                    "restitution" => s.restitution = value,
+                    other => return Err(invalid(format!("unknown scale {other:?}: use position, orientation, velocity, angular_velocity, mass, inertia, normal or restitution"))),
+                }
+                self.rebuild()?;
+            }
+            Edit::SetAccuracy(acc) => {
+                validate_accuracy(&acc)?;
+                self.scene.accuracy = acc;
+                self.rebuild()?;
+                self.status.accuracy = acc.label();
+            }
+            Edit::Settle { budget_ms } => {
+                let d = self.settle(budget_ms)?;
+                diagnostics.extend(d.iter().map(|x| x.to_string()));
+                changed = self.values() != old_values;
+            }
+            Edit::Undo => {
+                let s = self.undo.pop().ok_or_else(|| invalid("nothing to undo"))?;
+                let now = self.snapshot();
+                if let Err(e) = self.restore(s.clone()) {
+                    self.undo.push(s);
+                    return Err(e);
+                }
+                self.redo.push(now);
+                self.revision += 1;
+                self.last_delta = (0..self.controls.entries.len()).map(|i| self.controls.get(&self.scene, i) - old_values.get(i).copied().unwrap_or(0.0)).collect();
+                changed = false;
+            }
+            Edit::Redo => {
+                let s = self.redo.pop().ok_or_else(|| invalid("nothing to redo"))?;
+                let now = self.snapshot();
+                if let Err(e) = self.restore(s.clone()) {
+                    self.redo.push(s);
+                    return Err(e);
+                }
+                self.undo.push(now);
+                self.revision += 1;
+                changed = false;
+            }
+        }
+        if changed {
+            self.commit(before, old_values);
+            self.refresh_geometry();
+        }
+        self.status.residual = self.residual();
+        self.status.message = diagnostics.last().cloned();
+        self.edits += 1;
+        Ok(Outcome { updates: self.updates - updates0, elapsed_ms: started.elapsed().as_secs_f64() * 1e3, diagnostics })
+    }
+
+    fn constraint_rows(&self) -> Vec<ConstraintRow> {
+        self.constraints
+            .iter()
+            .map(|c| {
+                let residual = c.evaluate(&self.traj, false).map(|(r, _)| r.norm()).unwrap_or(f64::INFINITY);
+                let at = match c.anchor {
+                    Anchor::Time(t) => format!("t={t:.3}"),
+                    Anchor::Event { collision, side } => format!("hit#{collision} {}", if side == Side::Pre { "pre" } else { "post" }),
+                };
+                ConstraintRow { kind: c.label().to_string(), body: self.scene.bodies.get(c.body).map(|b| b.name.clone()).unwrap_or_default(), at, residual }
+            })
+            .collect()
+    }
+
+    /// The edited scene with its constraints, ready to save.
+    pub fn scene_to_save(&self) -> Scene {
+        let mut s = self.scene.clone();
+        s.constraints = self.constraints.iter().filter(|c| !c.drag).map(|c| to_spec(&self.scene, c)).collect();
+        s
+    }
+}
+
+fn validate_accuracy(acc: &Accuracy) -> Result<(), EditError> {
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    let good = match acc.method {
+        Method::Rk4 { step } => ok(step) && step <= 1.0,
+        Method::Adaptive { tol, max_step } => ok(tol) && tol < 1.0 && ok(max_step),
+    } && ok(acc.root_tol)
+        && acc.root_tol < 1e-3;
+    if good { Ok(()) } else { Err(invalid(format!("invalid accuracy {acc:?}: steps and tolerances must be finite and > 0 (step ≤ 1 s, tol < 1, root tol < 1e-3)"))) }
+}
+
+fn to_spec(scene: &Scene, c: &Constraint) -> ConstraintSpec {
+    let name = |i: usize| scene.bodies.get(i).map(|b| b.name.clone()).unwrap_or_default();
+    let (time, collision, side) = match c.anchor {
+        Anchor::Time(t) => (Some(t), None, None),
+        Anchor::Event { collision, side } => (None, Some(collision), Some(if side == Side::Pre { "pre" } else { "post" }.to_string())),
+    };
+    let mut spec = ConstraintSpec { kind: c.label().to_string(), body: name(c.body), other: None, time, collision, side, quantities: Vec::new(), target: Vec::new() };
+    match &c.kind {
+        Kind::State { quantities, target } => {
+            spec.quantities = quantities.clone();
+            spec.target = target.clone();
+        }
+        Kind::EqualSpeed { other } => spec.other = Some(name(*other)),
+        Kind::AngularSpeed { value } => spec.target = vec![*value],
+        Kind::PointOnPlane { point, normal, offset } => spec.target = point.iter().chain(normal.iter()).cloned().chain([*offset]).collect(),
+        Kind::Distance { other, point, other_point, value } => {
+            spec.other = Some(name(*other));
+            spec.target = point.iter().chain(other_point.iter()).cloned().chain([*value]).collect();
+        }
+    }
+    spec
+}
+
+fn from_spec(scene: &Scene, s: &ConstraintSpec) -> Option<Constraint> {
+    let body = scene.body_index(&s.body)?;
+    let anchor = match (s.time, s.collision) {
+        (Some(t), _) => Anchor::Time(t),
+        (None, Some(k)) => Anchor::Event { collision: k, side: if s.side.as_deref() == Some("pre") { Side::Pre } else { Side::Post } },
+        _ => return None,
+    };
+    let other = || s.other.as_deref().and_then(|o| scene.body_index(o));
+    let v3 = |i: usize| Some(Vec3::new(*s.target.get(i)?, *s.target.get(i + 1)?, *s.target.get(i + 2)?));
+    let kind = match s.kind.as_str() {
+        "nail" | "floating" => {
+            if s.target.len() != 3 * s.quantities.len() {
+                return None;
+            }
+            Kind::State { quantities: s.quantities.clone(), target: s.target.clone() }
+        }
+        "equal_speed" => Kind::EqualSpeed { other: other()? },
+        "angular_speed" => Kind::AngularSpeed { value: *s.target.first()? },
+        "point_on_plane" => Kind::PointOnPlane { point: v3(0)?, normal: v3(3)?, offset: *s.target.get(6)? },
+        "distance" => Kind::Distance { other: other()?, point: v3(0)?, other_point: v3(3)?, value: *s.target.get(6)? },
+        _ => return None,
+    };
+    Some(Constraint { body, anchor, kind, drag: false })
+}
+
+impl Core for Editor {
+    fn apply(&mut self, edit: Edit) -> Result<Outcome, EditError> {
+        let before = self.snapshot();
+        let (selected, time, revision) = (self.selected, self.time, self.revision);
+        let undo_len = self.undo.len();
+        match self.apply_inner(edit) {
+            Ok(o) => Ok(o),
+            Err(e) => {
+                // Atomic: put everything back as it was.
+                self.selected = selected;
+                self.time = time;
+                self.revision = revision;
+                self.undo.truncate(undo_len);
+                if self.scene.bodies.len() != before.scene.bodies.len() || self.constraints != before.constraints || self.controls.values(&self.scene) != self.controls.values(&before.scene) || self.scene.event_controls != before.scene.event_controls {
+                    let _ = self.restore(before);
+                } else {
+                    self.scene = before.scene;
+                    self.constraints = before.constraints;
+                    let _ = self.rebuild();
+                }
+                self.status.message = Some(e.to_string());
+                Err(e)
+            }
+        }
+    }
+
+    fn view(&self) -> View {
+        let events = self
+            .traj
+            .events
+            .iter()
+            .map(|e| view::EventMark {
+                index: e.index,
+                t: e.t,
+                point: e.point,
+                a: report::party_name(&self.scene, Party::Body(e.a)),
+                b: report::party_name(&self.scene, e.b),
+                grazing: e.grazing,
+            })
+            .collect();
+        let controls = self
+            .controls
+            .entries
+            .iter()
+            .enumerate()
+            .map(|(i, e)| view::ControlRow {
+                name: e.name.clone(),
+                value: self.controls.get(&self.scene, i),
+                delta: self.last_delta.get(i).copied().unwrap_or(0.0),
+                free: e.free,
+                scale: e.scale,
+            })
+            .collect();
+        let constraints = self.constraint_rows().into_iter().map(|r| view::ConstraintRow { kind: r.kind, body: r.body, at: r.at, residual: r.residual }).collect();
+        let others = (0..self.scene.bodies.len()).filter(|&i| i != self.selected).flat_map(|i| self.body_lines(i)).collect();
+        View {
+            scene: self.scene.name.clone(),
+            duration: self.scene.duration,
+            time: self.time,
+            bodies: self.scene.bodies.iter().map(|b| b.name.clone()).collect(),
+            selected: self.selected,
+            paths: self.paths.clone(),
+            obstacles: self.obstacle_lines.clone(),
+            selected_outline: if self.scene.bodies.is_empty() { Vec::new() } else { self.body_lines(self.selected) },
+            body_outlines: others,
+            events,
+            controls,
+            constraints,
+            status: self.status.clone(),
+            dirty: self.dirty(),
+        }
+    }
+
+    fn save(&mut self, path: Option<&Path>) -> Result<PathBuf, EditError> {
+        let target = path.map(Path::to_path_buf).or_else(|| self.path.clone()).ok_or_else(|| EditError::Save("no file name: use :w PATH".into()))?;
+        scene::save(&self.scene_to_save(), &target).map_err(|e| EditError::Save(format!("{}: {e}", target.display())))?;
+        self.path = Some(target.clone());
+        self.saved_revision = self.revision;
+        Ok(target)
+    }
+
+    fn dirty(&self) -> bool {
+        self.revision != self.saved_revision
+    }
+
+    fn report(&self) -> serde_json::Value {
+        let rows = self.constraint_rows();
+        let mut v = report::summary(&self.scene, &self.controls, &self.traj, &rows, &self.status.message.iter().cloned().collect::<Vec<_>>());
+        let mut times = self.update_ms.clone();
+        times.sort_by(f64::total_cmp);
+        let pick = |q: f64| if times.is_empty() { 0.0 } else { times[((times.len() - 1) as f64 * q).round() as usize] };
+        if let Some(o) = v.as_object_mut() {
+            o.insert("edits".into(), serde_json::json!(self.edits));
+            o.insert("updates".into(), serde_json::json!(self.updates));
+            o.insert("update_ms".into(), serde_json::json!({"median": report::num(pick(0.5)), "p95": report::num(pick(0.95)), "max": report::num(times.last().copied().unwrap_or(0.0))}));
+            o.insert("residual".into(), report::num(self.residual()));
+        }
+        v
+    }
+}

@@ -1,0 +1,282 @@
+use super::constraint::{Constraint, ConstraintError};
+use crate::controls::Controls;
+use crate::scene::Scene;
+use crate::sim::{SimError, SimOptions, Trajectory, simulate};
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+
+/// A condition worth telling the user about; the update still returns
+/// the best step it found.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Diagnostic {
+    /// The constraints cannot all hold: the step is the least-squares one
+    /// and this much of `C δu = r` remains.
+    Conflicting { residual: f64 },
+    /// `C M⁻¹ Cᵀ` is ill-conditioned (condition number shown): directions
+    /// below the rank threshold were dropped.
+    IllConditioned { condition: f64 },
+    /// The step crossed into another smooth component (new collision
+    /// signature) and the sampled jump lowered the residual.
+    Pop { from: usize, to: usize },
+    /// No step, smooth or sampled, lowered the residual: the edit is blocked
+    /// in that direction.
+    Blocked,
+    /// The Jacobian is unavailable (grazing contact); sampling was used.
+    Grazing(String),
+}
+
+impl std::fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Diagnostic::Conflicting { residual } => write!(f, "conflicting constraints: least-squares step, residual {residual:.2e} remains"),
+            Diagnostic::IllConditioned { condition } => write!(f, "ill-conditioned constraints (cond {condition:.1e}): damped step"),
+            Diagnostic::Pop { from, to } => write!(f, "pop: collision sequence changed ({from} → {to} events)"),
+            Diagnostic::Blocked => write!(f, "blocked: no nearby motion lowers the residual in this direction"),
+            Diagnostic::Grazing(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+/// Why an update could not be computed. Nothing changes.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    #[error(transparent)]
+    Constraint(#[from] ConstraintError),
+    /// Nothing to solve for.
+    #[error("no free controls: free a block of {body} (e.g. `:free {body} velocity`) so the edit has something to change")]
+    NoFreeControls { body: String },
+    /// The constraint rows do not involve any free control.
+    #[error("the free controls cannot move this: free a block of {body} that acts before this time (position, orientation, velocity or angular_velocity)")]
+    Unreachable { body: String },
+    /// A NaN or infinity appeared.
+    #[error("the update produced a non-finite number; the edit was not applied")]
+    NonFinite,
+}
+
+/// Options of one differential update.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UpdateOptions {
+    /// First step fraction ε₀.
+    pub step: f64,
+    /// Halvings tried after ε₀.
+    pub halvings: usize,
+    /// Candidates sampled at a signature change.
+    pub samples: usize,
+    /// Relative eigenvalue threshold of the rank-revealing solve.
+    pub rank_tol: f64,
+    /// Seed of the sampler (deterministic results).
+    pub seed: u64,
+}
+
+impl Default for UpdateOptions {
+    fn default() -> Self {
+        UpdateOptions { step: 1.0, halvings: 4, samples: 24, rank_tol: 1e-12, seed: 0x5eed }
+    }
+}
+
+/// The outcome of one update.
+#[derive(Debug, Clone)]
+pub struct UpdateResult {
+    /// The new control values (equal to the old ones when blocked).
+    pub u: DVector<f64>,
+    /// Weighted residual norm before and after.
+    pub before: f64,
+    pub after: f64,
+    /// Step fraction accepted (0 when blocked).
+    pub step: f64,
+    /// Condition number of `C M⁻¹ Cᵀ`.
+    pub condition: f64,
+    pub diagnostics: Vec<Diagnostic>,
+    /// The trajectory at the new `u` (without tangents).
+    pub trajectory: Option<Trajectory>,
+}
+
+/// Stack every constraint's residual (and rows).
+fn assemble(traj: &Trajectory, constraints: &[Constraint], with_jac: bool) -> Result<(DVector<f64>, Option<DMatrix<f64>>), ConstraintError> {
+    let rows: usize = constraints.iter().map(Constraint::rows).sum();
+    let mut r = DVector::zeros(rows);
+    let mut c = with_jac.then(|| DMatrix::zeros(rows, traj.m));
+    let mut at = 0;
+    for k in constraints {
+        let (rk, ck) = k.evaluate(traj, with_jac)?;
+        r.rows_mut(at, rk.len()).copy_from(&rk);
+        if let (Some(c), Some(ck)) = (c.as_mut(), ck) {
+            c.rows_mut(at, rk.len()).copy_from(&ck);
+        }
+        at += rk.len();
+    }
+    Ok((r, c))
+}
+
+/// The residual norm of the constraints on a trajectory (`∞` if one cannot
+/// be evaluated, e.g. a floating constraint whose collision vanished).
+pub fn residual_norm(traj: &Trajectory, constraints: &[Constraint]) -> f64 {
+    match assemble(traj, constraints, false) {
+        Ok((r, _)) if r.iter().all(|v| v.is_finite()) => r.norm(),
+        _ => f64::INFINITY,
+    }
+}
+
+/// Solve `min ½ δuᵀMδu + dᵀδu s.t. Cδu = r` via the rank-revealing
+/// eigendecomposition of `A = C M⁻¹ Cᵀ`. Returns `δu`, the condition number
+/// of `A` over the kept directions, and the unsatisfiable part of `r`.
+pub fn kkt(c: &DMatrix<f64>, r: &DVector<f64>, scales: &DVector<f64>, d: &DVector<f64>, rank_tol: f64) -> (DVector<f64>, f64, f64) {
+    let k = c.nrows();
+    let minv = scales.map(|s| 1.0 / s);
+    let cm = c * DMatrix::from_diagonal(&minv); // C M⁻¹
+    let a = &cm * c.transpose();
+    let b = r + &cm * d;
+    let fa = faer::Mat::<f64>::from_fn(k, k, |i, j| a[(i, j)]);
+    let (lambda, condition) = match fa.self_adjoint_eigen(faer::Side::Lower) {
+        Ok(evd) => {
+            let s = evd.S().column_vector();
+            let u = evd.U();
+            let max = (0..k).map(|i| s[i].abs()).fold(0.0, f64::max);
+            let cut = max * rank_tol.max(f64::EPSILON * k as f64);
+            let mut lambda = DVector::zeros(k);
+            let mut min_kept = f64::INFINITY;
+            for i in 0..k {
+                if s[i] > cut {
+                    min_kept = min_kept.min(s[i]);
+                    let coef: f64 = (0..k).map(|j| u[(j, i)] * b[j]).sum::<f64>() / s[i];
+                    for j in 0..k {
+                        lambda[j] += coef * u[(j, i)];
+                    }
+                }
+            }
+            (lambda, if min_kept.is_finite() && min_kept > 0.0 { max / min_kept } else { f64::INFINITY })
+        }
+        Err(_) => (DVector::zeros(k), f64::INFINITY),
+    };
+    let du = DVector::from_iterator(scales.len(), (c.transpose() * &lambda - d).iter().zip(minv.iter()).map(|(x, m)| x * m));
+    let unmet = (c * &du - r).norm();
+    (du, condition, unmet)
+}
+
+/// Gaussian samples from a small deterministic generator (SplitMix64 +
+/// Box–Muller), so updates are reproducible.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    fn gauss(&mut self) -> f64 {
+        let (a, b) = (self.next(), self.next());
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    }
+}
+
+fn trial(scene: &Scene, controls: &Controls, u: &DVector<f64>, constraints: &[Constraint]) -> Option<(f64, Trajectory)> {
+    if !u.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let mut s = scene.clone();
+    controls.write(&mut s, u);
+    let tr = simulate(&s, controls, &SimOptions { tangent: false, ..SimOptions::default() }).ok()?;
+    let res = residual_norm(&tr, constraints);
+    res.is_finite().then_some((res, tr))
+}
+
+/// One differential update of `scene`'s free controls towards satisfying
+/// `constraints` (paper Eq. 15 with successive step reduction and sampling
+/// across discontinuities). `traj` is the current motion with tangents.
+pub fn update(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints: &[Constraint], opts: &UpdateOptions) -> Result<UpdateResult, SolveError> {
+    let u0 = controls.values(scene);
+    let body_name = |c: &Constraint| scene.bodies.get(c.body).map(|b| b.name.clone()).unwrap_or_default();
+    if controls.m() == 0 {
+        return Err(SolveError::NoFreeControls { body: constraints.first().map(body_name).unwrap_or_default() });
+    }
+    let before = residual_norm(traj, constraints);
+    let mut diagnostics = Vec::new();
+    let signature = traj.signature();
+    // Desired values pull surface parameters back towards the geometric normal.
+    let scales = controls.scales();
+    let d = DVector::from_iterator(
+        controls.m(),
+        controls.free.iter().enumerate().map(|(col, &i)| match controls.entries[i].desired {
+            Some(want) => -scales[col] * (want - u0[col]),
+            None => 0.0,
+        }),
+    );
+    let step = match assemble(traj, constraints, true) {
+        Ok((r, Some(c))) => {
+            if c.iter().all(|v| *v == 0.0) && r.norm() > 0.0 {
+                return Err(SolveError::Unreachable { body: constraints.iter().find(|c| c.drag).or(constraints.first()).map(body_name).unwrap_or_default() });
+            }
+            let (du, condition, unmet) = kkt(&c, &r, &scales, &d, opts.rank_tol);
+            if !du.iter().all(|v| v.is_finite()) {
+                return Err(SolveError::NonFinite);
+            }
+            if unmet > 1e-9 * r.norm().max(1e-12) && unmet > 1e-12 {
+                diagnostics.push(Diagnostic::Conflicting { residual: unmet });
+            }
+            if condition > 1e10 {
+                diagnostics.push(Diagnostic::IllConditioned { condition });
+            }
+            Some((du, condition))
+        }
+        Ok((_, None)) => None,
+        Err(ConstraintError::Tangent(e)) => {
+            diagnostics.push(Diagnostic::Grazing(e.to_string()));
+            None
+        }
+        Err(e) => return Err(e.into()),
+    };
+    let (du, condition) = step.unwrap_or_else(|| (DVector::zeros(controls.m()), f64::NAN));
+    // Successive step reduction within the current smooth component.
+    let mut crossing: Option<(f64, DVector<f64>)> = None;
+    let mut eps = opts.step;
+    if du.norm() > 0.0 {
+        for _ in 0..=opts.halvings {
+            let u = &u0 + &du * eps;
+            if let Some((res, tr)) = trial(scene, controls, &u, constraints) {
+                if tr.signature() == signature {
+                    if res < before {
+                        return Ok(UpdateResult { u, before, after: res, step: eps, condition, diagnostics, trajectory: Some(tr) });
+                    }
+                } else if crossing.is_none() {
+                    crossing = Some((eps, du.clone() * eps));
+                }
+            }
+            eps *= 0.5;
+        }
+    }
+    // The step leaves the smooth component (or no direction is known):
+    // sample around it and jump only if that beats staying put.
+    let centre = crossing.as_ref().map(|c| c.1.clone()).unwrap_or_else(|| du.clone() * opts.step);
+    let spread: DVector<f64> = if centre.norm() > 0.0 {
+        centre.map(|v| 0.5 * v.abs()).add_scalar(0.1 * centre.norm() / (controls.m() as f64).sqrt())
+    } else {
+        scales.map(|s| 1e-2 / s.sqrt())
+    };
+    let mut rng = Rng(opts.seed ^ (before.to_bits().rotate_left(17)));
+    let candidates: Vec<DVector<f64>> = (0..opts.samples)
+        .map(|i| if i == 0 { centre.clone() } else { DVector::from_iterator(centre.len(), centre.iter().zip(spread.iter()).map(|(c, s)| c + s * rng.gauss())) })
+        .collect();
+    let best = candidates
+        .par_iter()
+        .filter_map(|dv| trial(scene, controls, &(&u0 + dv), constraints).map(|(res, tr)| (res, dv.clone(), tr)))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    match best {
+        Some((res, dv, tr)) if res < before => {
+            let (from, to) = (traj.events.len(), tr.events.len());
+            if tr.signature() != signature {
+                diagnostics.push(Diagnostic::Pop { from, to });
+            }
+            Ok(UpdateResult { u: &u0 + &dv, before, after: res, step: 0.0, condition, diagnostics, trajectory: Some(tr) })
+        }
+        _ => {
+            diagnostics.push(Diagnostic::Blocked);
+            Ok(UpdateResult { u: u0, before, after: before, step: 0.0, condition, diagnostics, trajectory: None })
+        }
+    }
+}
