@@ -224,9 +224,13 @@ impl Editor {
         let start = Instant::now();
         let res = solve::update(&self.scene, &self.controls, &self.traj, constraints, &self.opts).map_err(|e| invalid(e.to_string()))?;
         let moved = res.trajectory.is_some();
-        if moved {
+        if let Some(tr) = res.trajectory {
             self.controls.write(&mut self.scene, &res.u);
-            self.traj = simulate_with_tangent(&self.scene, &self.controls)?;
+            // Writing u may reparameterise an orientation (|r| > π); the
+            // trial's motion is the same, but its Jacobian columns refer to
+            // the old parameters, so simulate afresh in that case.
+            let same = self.controls.values(&self.scene) == res.u;
+            self.traj = if tr.tangent && same { tr } else { simulate_with_tangent(&self.scene, &self.controls)? };
         }
         self.updates += 1;
         self.update_ms.push(start.elapsed().as_secs_f64() * 1e3);

@@ -164,6 +164,25 @@ fn part_contact(pa: &Part, pose_a: &Isometry3<f64>, pb: &Part, pose_b: &Isometry
     }
 }
 
+/// Every part pair's contact closer than `max_distance` (m), each with its
+/// part indices: for a static convex obstacle part, the plane through
+/// `point_b` with normal `normal` separates it from that part of `a`.
+pub fn part_contacts(a: &Geometry, pose_a: &Isometry3<f64>, b: &Geometry, pose_b: &Isometry3<f64>, max_distance: f64) -> Vec<Contact> {
+    let mut out = Vec::new();
+    for (ia, pa) in a.parts.iter().enumerate() {
+        for (ib, pb) in b.parts.iter().enumerate() {
+            if let Some(mut c) = part_contact(pa, pose_a, pb, pose_b, max_distance) {
+                if c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite()) {
+                    c.part_a = ia;
+                    c.part_b = ib;
+                    out.push(c);
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The closest contact between two geometries placed at `pose_a` and
 /// `pose_b`, or `None` when every part pair is farther apart than
 /// `max_distance` (m). Compounds are searched part by part.

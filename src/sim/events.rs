@@ -83,21 +83,23 @@ impl World<'_> {
         (s.v.norm() + ang * d.reach, self.traj.gravity.norm())
     }
 
-    /// A safe advance for a body against a plane, vertex by vertex: each
-    /// point's height `h` obeys `h(t+τ) ≥ h + ḣ τ − ½ B τ²` with `B` bounding
-    /// its acceleration along the normal (gravity, drag, centripetal and
-    /// angular acceleration), so no point reaches the plane before the
-    /// smallest positive root. Much larger than the speed-bound step when a
-    /// body separates slowly after a bounce. `None` unless `b` is a plane.
-    fn plane_step(&self, pair: &Pair, sa: &Option<BodyState>, skin: f64) -> Option<f64> {
+    /// A safe advance for a body against a static obstacle, vertex by
+    /// vertex: every convex obstacle part lies behind the plane through its
+    /// closest point with the contact normal, and each body point's height
+    /// `h` over that plane obeys `h(t+τ) ≥ h + ḣ τ − ½ B τ²`, with `B`
+    /// bounding its acceleration along the normal (gravity, drag,
+    /// centripetal and angular acceleration). No point can reach the
+    /// obstacle before the smallest such root — far larger than the
+    /// speed-bound step when a body separates slowly after a bounce.
+    /// `None` for body–body pairs.
+    fn plane_step(&self, pair: &Pair, sa: &Option<BodyState>, skin: f64, reach: f64) -> Option<f64> {
         let Party::Obstacle(o) = pair.b else { return None };
         let obstacle = &self.scene.obstacles[o];
-        let [part] = obstacle.geometry.parts.as_slice() else { return None };
-        let crate::geometry::PartKind::HalfSpace { normal } = part.kind else { return None };
         let s = sa.as_ref()?;
-        let pose = obstacle.pose * part.offset;
-        let n = pose.rotation * normal;
-        let p0 = pose.translation.vector;
+        let body = &self.scene.bodies[pair.a];
+        let iso = Isometry3::from_parts(Translation3::from(s.x), s.q);
+        Counters::bump(&self.traj.counters.collisions, 1);
+        let planes = crate::geometry::part_contacts(&body.geometry, &iso, &obstacle.geometry, &obstacle.pose, reach);
         let d = &self.traj.dynamics[pair.a];
         let (w_max, alpha) = if d.integrate {
             let r = *s.q.to_rotation_matrix().matrix();
@@ -107,12 +109,16 @@ impl World<'_> {
             (s.w.norm(), 0.0)
         };
         let g = self.traj.gravity;
-        let lin = n.dot(&g).abs() + d.drag_k.unwrap_or(0.0) * (s.v.norm() + g.norm());
+        let drag = d.drag_k.unwrap_or(0.0) * (s.v.norm() + g.norm());
         let mut best = f64::INFINITY;
-        for p in &self.scene.bodies[pair.a].geometry.parts {
-            let points: Vec<(Vec3, f64)> = match &p.kind {
-                crate::geometry::PartKind::Ball { radius } => vec![(p.offset.translation.vector, *radius)],
-                crate::geometry::PartKind::Convex { .. } => p.vertices().into_iter().map(|v| (v, 0.0)).collect(),
+        for c in planes {
+            let n = c.normal;
+            let p0 = c.point_b;
+            let lin = n.dot(&g).abs() + drag;
+            let part = &body.geometry.parts[c.part_a];
+            let points: Vec<(Vec3, f64)> = match &part.kind {
+                crate::geometry::PartKind::Ball { radius } => vec![(part.offset.translation.vector, *radius)],
+                crate::geometry::PartKind::Convex { .. } => part.vertices().into_iter().map(|v| (v, 0.0)).collect(),
                 _ => return None,
             };
             for (local, radius) in points {
@@ -261,7 +267,7 @@ impl World<'_> {
             let gap = if e > hit { e - 0.5 * hit } else { (2.0 * hit - e).max(hit) };
             let mut tau = 2.0 * gap / (a + (a * a + 4.0 * b * gap).sqrt());
             if e > hit {
-                if let Some(tp) = self.plane_step(pair, &sa, -0.5 * hit) {
+                if let Some(tp) = self.plane_step(pair, &sa, -0.5 * hit, reach) {
                     if tp > tau {
                         // Every point's next descent to the plane is bounded:
                         // the contact just resolved is behind us, so re-arm.

@@ -89,7 +89,8 @@ pub struct UpdateResult {
     /// Condition number of `C M⁻¹ Cᵀ`.
     pub condition: f64,
     pub diagnostics: Vec<Diagnostic>,
-    /// The trajectory at the new `u` (without tangents).
+    /// The trajectory at the new `u` (with tangents when it came from the
+    /// smooth step, without when it came from sampling).
     pub trajectory: Option<Trajectory>,
 }
 
@@ -175,13 +176,13 @@ impl Rng {
     }
 }
 
-fn trial(scene: &Scene, controls: &Controls, u: &DVector<f64>, constraints: &[Constraint]) -> Option<(f64, Trajectory)> {
+fn trial(scene: &Scene, controls: &Controls, u: &DVector<f64>, constraints: &[Constraint], tangent: bool) -> Option<(f64, Trajectory)> {
     if !u.iter().all(|v| v.is_finite()) {
         return None;
     }
     let mut s = scene.clone();
     controls.write(&mut s, u);
-    let tr = simulate(&s, controls, &SimOptions { tangent: false, ..SimOptions::default() }).ok()?;
+    let tr = simulate(&s, controls, &SimOptions { tangent, ..SimOptions::default() }).ok()?;
     let res = residual_norm(&tr, constraints);
     res.is_finite().then_some((res, tr))
 }
@@ -197,7 +198,13 @@ pub fn update(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints
     }
     let before = residual_norm(traj, constraints);
     let mut diagnostics = Vec::new();
-    let signature = traj.signature();
+    // Only the collisions up to the last constrained time shape the
+    // residual: later events may come and go without a discontinuity in
+    // what the edit asks for. The relevant signature is that prefix.
+    let horizon = constraints.iter().filter_map(|c| c.time(traj)).fold(0.0, f64::max) + 0.02 * scene.duration;
+    let relevant = traj.events.iter().take_while(|e| e.t <= horizon).count();
+    let prefix = |tr: &Trajectory| -> Vec<String> { tr.signature().into_iter().take(relevant).collect() };
+    let signature = prefix(traj);
     // Desired values pull surface parameters back towards the geometric normal.
     let scales = controls.scales();
     let d = DVector::from_iterator(
@@ -238,8 +245,10 @@ pub fn update(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints
     if du.norm() > 0.0 {
         for _ in 0..=opts.halvings {
             let u = &u0 + &du * eps;
-            if let Some((res, tr)) = trial(scene, controls, &u, constraints) {
-                if tr.signature() == signature {
+            // Step-reduction trials carry tangents: the accepted one is the
+            // next update's starting point, so it is not simulated twice.
+            if let Some((res, tr)) = trial(scene, controls, &u, constraints, true) {
+                if prefix(&tr) == signature {
                     if res < before {
                         return Ok(UpdateResult { u, before, after: res, step: eps, condition, diagnostics, trajectory: Some(tr) });
                     }
@@ -264,12 +273,12 @@ pub fn update(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints
         .collect();
     let best = candidates
         .par_iter()
-        .filter_map(|dv| trial(scene, controls, &(&u0 + dv), constraints).map(|(res, tr)| (res, dv.clone(), tr)))
+        .filter_map(|dv| trial(scene, controls, &(&u0 + dv), constraints, false).map(|(res, tr)| (res, dv.clone(), tr)))
         .min_by(|a, b| a.0.total_cmp(&b.0));
     match best {
         Some((res, dv, tr)) if res < before => {
             let (from, to) = (traj.events.len(), tr.events.len());
-            if tr.signature() != signature {
+            if prefix(&tr) != signature {
                 diagnostics.push(Diagnostic::Pop { from, to });
             }
             Ok(UpdateResult { u: &u0 + &dv, before, after: res, step: 0.0, condition, diagnostics, trajectory: Some(tr) })
