@@ -11,7 +11,11 @@ use nalgebra::DVector;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Target {
     /// Component `axis` of a body block.
-    Body { body: usize, block: Block, axis: usize },
+    Body {
+        body: usize,
+        block: Block,
+        axis: usize,
+    },
     /// Component `axis` (0 = a, 1 = b) of the normal deviation at an event.
     Normal { event: usize, axis: usize },
     /// Restitution at an event.
@@ -59,15 +63,19 @@ impl Controls {
         for (bi, body) in scene.bodies.iter().enumerate() {
             for block in Block::ALL {
                 let free = body.is_free(block);
-                for axis in 0..block.len() {
+                for (axis, tag) in AXES.iter().enumerate().take(block.len()) {
                     let name = if block.len() == 1 {
                         format!("{}.{}", body.name, block.name())
                     } else {
-                        format!("{}.{}.{}", body.name, block.name(), AXES[axis])
+                        format!("{}.{}.{tag}", body.name, block.name())
                     };
                     entries.push(Entry {
                         name,
-                        target: Target::Body { body: bi, block, axis },
+                        target: Target::Body {
+                            body: bi,
+                            block,
+                            axis,
+                        },
                         free,
                         scale: scene.scales.of(block),
                         desired: None,
@@ -82,7 +90,10 @@ impl Controls {
                 for (axis, tag) in ["a", "b"].iter().enumerate() {
                     entries.push(Entry {
                         name: format!("event{}.normal.{tag}", c.event),
-                        target: Target::Normal { event: c.event, axis },
+                        target: Target::Normal {
+                            event: c.event,
+                            axis,
+                        },
                         free: true,
                         scale: scene.scales.normal,
                         desired: Some(0.0),
@@ -104,19 +115,31 @@ impl Controls {
         let mut event_cols: Vec<(usize, Option<usize>, Option<usize>)> = Vec::new();
         for (col, &i) in free.iter().enumerate() {
             match entries[i].target {
-                Target::Body { body, block, axis } if axis == 0 => body_cols[body][block_index(block)] = Some(col),
-                Target::Normal { event, axis } if axis == 0 => match event_cols.iter_mut().find(|e| e.0 == event) {
-                    Some(e) => e.1 = Some(col),
-                    None => event_cols.push((event, Some(col), None)),
-                },
-                Target::Restitution { event } => match event_cols.iter_mut().find(|e| e.0 == event) {
+                Target::Body {
+                    body,
+                    block,
+                    axis: 0,
+                } => body_cols[body][block_index(block)] = Some(col),
+                Target::Normal { event, axis: 0 } => {
+                    match event_cols.iter_mut().find(|e| e.0 == event) {
+                        Some(e) => e.1 = Some(col),
+                        None => event_cols.push((event, Some(col), None)),
+                    }
+                }
+                Target::Restitution { event } => match event_cols.iter_mut().find(|e| e.0 == event)
+                {
                     Some(e) => e.2 = Some(col),
                     None => event_cols.push((event, None, Some(col))),
                 },
                 _ => {}
             }
         }
-        Controls { entries, free, body_cols, event_cols }
+        Controls {
+            entries,
+            free,
+            body_cols,
+            event_cols,
+        }
     }
 
     /// Number of free controls (columns of the Jacobian).
@@ -131,7 +154,11 @@ impl Controls {
 
     /// Columns of event `k`'s normal deviation (a, then b at +1) and restitution.
     pub fn event_columns(&self, event: usize) -> (Option<usize>, Option<usize>) {
-        self.event_cols.iter().find(|e| e.0 == event).map(|e| (e.1, e.2)).unwrap_or((None, None))
+        self.event_cols
+            .iter()
+            .find(|e| e.0 == event)
+            .map(|e| (e.1, e.2))
+            .unwrap_or((None, None))
     }
 
     /// Read an entry's current value from the scene.
@@ -148,8 +175,15 @@ impl Controls {
                     Block::Inertia => b.inertia[axis],
                 }
             }
-            Target::Normal { event, axis } => scene.event_control(event).and_then(|c| c.normal).map(|n| n[axis]).unwrap_or(0.0),
-            Target::Restitution { event } => scene.event_control(event).and_then(|c| c.restitution).unwrap_or(1.0),
+            Target::Normal { event, axis } => scene
+                .event_control(event)
+                .and_then(|c| c.normal)
+                .map(|n| n[axis])
+                .unwrap_or(0.0),
+            Target::Restitution { event } => scene
+                .event_control(event)
+                .and_then(|c| c.restitution)
+                .unwrap_or(1.0),
         }
     }
 

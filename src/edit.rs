@@ -27,9 +27,18 @@ pub enum Expression {
     /// `|ω| = value` (rad/s) at the current time.
     AngularSpeed { value: f64 },
     /// The body-frame `point` lies on the world plane `n · p = offset`.
-    PointOnPlane { point: Vec3, normal: Vec3, offset: f64 },
+    PointOnPlane {
+        point: Vec3,
+        normal: Vec3,
+        offset: f64,
+    },
     /// `|p_a − p_b| = value` between body-frame points of two bodies.
-    Distance { other: usize, point: Vec3, other_point: Vec3, value: f64 },
+    Distance {
+        other: usize,
+        point: Vec3,
+        other_point: Vec3,
+        value: f64,
+    },
 }
 
 /// One user intent.
@@ -44,18 +53,28 @@ pub enum Edit {
     /// Drag the selected body's `quantity` at the current time by `delta`
     /// (world frame; for orientation a rotation vector), keeping every
     /// constraint in place.
-    Nudge { quantity: StateQuantity, delta: Vec3 },
+    Nudge {
+        quantity: StateQuantity,
+        delta: Vec3,
+    },
     /// Nail the selected body's quantities at the current time to their current values.
     Nail { quantities: Vec<StateQuantity> },
     /// A floating constraint on the selected body's quantities at its
     /// collision nearest the current time.
-    Float { quantities: Vec<StateQuantity>, side: Side },
+    Float {
+        quantities: Vec<StateQuantity>,
+        side: Side,
+    },
     /// An expression constraint on the selected body at the current time.
     Expression(Expression),
     /// Remove the constraint with this index (in the constraints panel order).
     RemoveConstraint(usize),
     /// Free or fix a control block of a body.
-    SetBlock { body: usize, block: Block, free: bool },
+    SetBlock {
+        body: usize,
+        block: Block,
+        free: bool,
+    },
     /// Add normal and/or restitution controls at the event nearest the current time.
     AddEventControls { normal: bool, restitution: bool },
     /// Change the scale (diagonal of M) of a kind of control: a block name,

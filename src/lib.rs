@@ -6,18 +6,18 @@
 //! (constraints, least-norm update) ← [`edit`] ← keys; rendering ([`view`],
 //! `tui`) reads snapshots and never runs the simulator.
 
+pub mod bench;
+pub mod controls;
+pub mod edit;
 pub mod geometry;
 pub mod math;
 pub mod report;
 pub mod scene;
+pub mod script;
 pub mod sim;
-pub mod bench;
-pub mod controls;
-pub mod edit;
 pub mod solve;
 pub mod svg;
 pub mod tangent;
 pub mod testkit;
-pub mod view;
 pub mod tui;
-pub mod script;
+pub mod view;

@@ -83,15 +83,28 @@ fn real_main() -> Result<()> {
             let mut editor = match &cli.scene {
                 Some(p) => Editor::open(p).map_err(|e| anyhow::anyhow!("{e}"))?,
                 None => {
-                    let scene = scene::load_str(scene::DEFAULT_SCENE, "<built-in eggs>").map_err(|e| anyhow::anyhow!("{e}"))?;
-                    Editor::new(scene, Some(PathBuf::from("eggs.toml"))).map_err(|e| anyhow::anyhow!("{e}"))?
+                    let scene = scene::load_str(scene::DEFAULT_SCENE, "<built-in eggs>")
+                        .map_err(|e| anyhow::anyhow!("{e}"))?;
+                    Editor::new(scene, Some(PathBuf::from("eggs.toml")))
+                        .map_err(|e| anyhow::anyhow!("{e}"))?
                 }
             };
             nudge::tui::run(&mut editor).context("terminal")?;
             Ok(())
         }
-        Some(Command::Check { scene, json, jacobian }) => check(&scene, json, jacobian),
-        Some(Command::Run { scene, keys, report, screen, size, trace_svg }) => run(&scene, &keys, report, screen, &size, trace_svg),
+        Some(Command::Check {
+            scene,
+            json,
+            jacobian,
+        }) => check(&scene, json, jacobian),
+        Some(Command::Run {
+            scene,
+            keys,
+            report,
+            screen,
+            size,
+            trace_svg,
+        }) => run(&scene, &keys, report, screen, &size, trace_svg),
         Some(Command::Bench { quick, csv, only }) => {
             let args = nudge::bench::BenchArgs { quick, csv, only };
             nudge::bench::run(&args, &mut std::io::stdout().lock())?;
@@ -104,14 +117,19 @@ fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
     let scene = load(path)?;
     let controls = Controls::new(&scene);
     let start = Instant::now();
-    let traj = simulate(&scene, &controls, &SimOptions::default()).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let traj = simulate(&scene, &controls, &SimOptions::default())
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let elapsed = start.elapsed();
     if json {
         let v = nudge::report::summary(&scene, &controls, &traj, &[], &[]);
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         print!("{}", nudge::report::text(&scene, &controls, &traj));
-        println!("\nsimulated with Jacobians ({} controls) in {:.3} ms", controls.m(), elapsed.as_secs_f64() * 1e3);
+        println!(
+            "\nsimulated with Jacobians ({} controls) in {:.3} ms",
+            controls.m(),
+            elapsed.as_secs_f64() * 1e3
+        );
     }
     if jacobian {
         jacobian_check(&scene, &controls, &traj)?;
@@ -126,11 +144,21 @@ fn jacobian_check(scene: &Scene, controls: &Controls, traj: &nudge::sim::Traject
         println!("\njacobian: no free controls (free a block in the scene's `free = [...]`)");
         return Ok(());
     }
-    let fd = FiniteDifference::new(scene, controls, Scheme::Central).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let fd = FiniteDifference::new(scene, controls, Scheme::Central)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut blocks: Vec<(String, Vec<usize>)> = Vec::new();
     for (col, &i) in controls.free.iter().enumerate() {
         let name = &controls.entries[i].name;
-        let block = name.rsplit_once('.').map(|(a, b)| if b.len() == 1 && controls.entries[i].name.matches('.').count() >= 2 { a.to_string() } else { name.clone() }).unwrap_or_else(|| name.clone());
+        let block = name
+            .rsplit_once('.')
+            .map(|(a, b)| {
+                if b.len() == 1 && controls.entries[i].name.matches('.').count() >= 2 {
+                    a.to_string()
+                } else {
+                    name.clone()
+                }
+            })
+            .unwrap_or_else(|| name.clone());
         match blocks.iter_mut().find(|b| b.0 == block) {
             Some(b) => b.1.push(col),
             None => blocks.push((block, vec![col])),
@@ -152,7 +180,9 @@ fn jacobian_check(scene: &Scene, controls: &Controls, traj: &nudge::sim::Traject
         let mut worst = [0.0f64; 2];
         for (k, (t, side)) in times.iter().enumerate() {
             for b in 0..scene.bodies.len() {
-                let Ok(jt) = traj.jacobian(b, *t, *side) else { continue };
+                let Ok(jt) = traj.jacobian(b, *t, *side) else {
+                    continue;
+                };
                 let jf = fd.at(b, *t, *side);
                 let mask: Vec<bool> = (0..controls.m()).map(|c| cols.contains(&c)).collect();
                 let e = nudge::tangent::max_relative_error(&jt, &jf, &mask, 1e-3);
@@ -160,33 +190,58 @@ fn jacobian_check(scene: &Scene, controls: &Controls, traj: &nudge::sim::Traject
                 worst[slot] = worst[slot].max(e);
             }
         }
-        println!("  {name:<34} {:>12.2e} {:>12}", worst[0], if traj.events.is_empty() { "—".to_string() } else { format!("{:.2e}", worst[1]) });
+        println!(
+            "  {name:<34} {:>12.2e} {:>12}",
+            worst[0],
+            if traj.events.is_empty() {
+                "—".to_string()
+            } else {
+                format!("{:.2e}", worst[1])
+            }
+        );
     }
     if let Some(e) = traj.tangent_error {
         println!("  note: {e}");
     }
-    println!("  (n/c: u ± h changes the collision sequence, so the difference quotient is not comparable)");
+    println!(
+        "  (n/c: u ± h changes the collision sequence, so the difference quotient is not comparable)"
+    );
     Ok(())
 }
 
 fn parse_size(size: &str) -> Result<(u16, u16)> {
-    let (w, h) = size.split_once(['x', 'X']).context("--size must look like 80x24")?;
-    let (w, h): (u16, u16) = (w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?);
+    let (w, h) = size
+        .split_once(['x', 'X'])
+        .context("--size must look like 80x24")?;
+    let (w, h): (u16, u16) = (
+        w.trim().parse().context("--size width")?,
+        h.trim().parse().context("--size height")?,
+    );
     if w == 0 || h == 0 {
         bail!("--size must be at least 1x1, got {size}");
     }
     Ok((w, h))
 }
 
-fn run(path: &Path, keys: &Path, report: Option<PathBuf>, screen: Option<PathBuf>, size: &str, svg: Option<PathBuf>) -> Result<()> {
+fn run(
+    path: &Path,
+    keys: &Path,
+    report: Option<PathBuf>,
+    screen: Option<PathBuf>,
+    size: &str,
+    svg: Option<PathBuf>,
+) -> Result<()> {
     let size = parse_size(size)?;
-    let text = std::fs::read_to_string(keys).with_context(|| format!("reading {}", keys.display()))?;
-    let parsed = nudge::script::parse_keys(&text, &keys.display().to_string()).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let text =
+        std::fs::read_to_string(keys).with_context(|| format!("reading {}", keys.display()))?;
+    let parsed = nudge::script::parse_keys(&text, &keys.display().to_string())
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
     let before = editor.view();
     let result = nudge::script::run_script(&mut editor, &parsed, size);
     if let Some(p) = screen {
-        std::fs::write(&p, format!("{}\n", result.screen)).with_context(|| format!("writing {}", p.display()))?;
+        std::fs::write(&p, format!("{}\n", result.screen))
+            .with_context(|| format!("writing {}", p.display()))?;
     }
     if let Some(p) = report {
         let mut v = editor.report();
@@ -196,10 +251,12 @@ fn run(path: &Path, keys: &Path, report: Option<PathBuf>, screen: Option<PathBuf
                 o.insert("render_ms".into(), serde_json::json!({"median": nudge::report::num(r.median), "p95": nudge::report::num(r.p95), "max": nudge::report::num(r.max)}));
             }
         }
-        std::fs::write(&p, serde_json::to_string_pretty(&v)?).with_context(|| format!("writing {}", p.display()))?;
+        std::fs::write(&p, serde_json::to_string_pretty(&v)?)
+            .with_context(|| format!("writing {}", p.display()))?;
     }
     if let Some(p) = svg {
-        std::fs::write(&p, nudge::svg::before_after(&before, &editor.view())).with_context(|| format!("writing {}", p.display()))?;
+        std::fs::write(&p, nudge::svg::before_after(&before, &editor.view()))
+            .with_context(|| format!("writing {}", p.display()))?;
     }
     Ok(())
 }

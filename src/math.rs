@@ -9,8 +9,8 @@
 mod so3;
 
 pub use so3::{
-    exp_so3, left_jacobian, left_jacobian_inv, log_so3, reparameterize, right_jacobian, rotation_matrix,
-    right_jacobian_inv, skew, Mat3, Vec3,
+    Mat3, Vec3, exp_so3, left_jacobian, left_jacobian_inv, log_so3, reparameterize, right_jacobian,
+    right_jacobian_inv, rotation_matrix, skew,
 };
 
 /// True when every entry of the slice is finite (neither NaN nor ±∞).

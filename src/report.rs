@@ -19,8 +19,16 @@ fn vec3(v: &crate::math::Vec3) -> Value {
 /// Name of a collision party.
 pub fn party_name(scene: &Scene, p: Party) -> String {
     match p {
-        Party::Body(i) => scene.bodies.get(i).map(|b| b.name.clone()).unwrap_or_default(),
-        Party::Obstacle(i) => scene.obstacles.get(i).map(|o| o.name.clone()).unwrap_or_default(),
+        Party::Body(i) => scene
+            .bodies
+            .get(i)
+            .map(|b| b.name.clone())
+            .unwrap_or_default(),
+        Party::Obstacle(i) => scene
+            .obstacles
+            .get(i)
+            .map(|o| o.name.clone())
+            .unwrap_or_default(),
     }
 }
 
@@ -35,7 +43,13 @@ pub struct ConstraintRow {
 
 /// The summary object: `scene`, `duration`, `controls`, `constraints`,
 /// `events`, `bodies`, `effects`, `diagnostics`.
-pub fn summary(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints: &[ConstraintRow], diagnostics: &[String]) -> Value {
+pub fn summary(
+    scene: &Scene,
+    controls: &Controls,
+    traj: &Trajectory,
+    constraints: &[ConstraintRow],
+    diagnostics: &[String],
+) -> Value {
     let controls_json: Vec<Value> = controls
         .entries
         .iter()
@@ -115,22 +129,45 @@ pub fn counter(traj: &Trajectory, e: Effect) -> u64 {
 
 /// A fixed-precision number for text output (`—` when not finite).
 pub fn fixed(v: f64, digits: usize) -> String {
-    if v.is_finite() { format!("{v:.digits$}") } else { "—".to_string() }
+    if v.is_finite() {
+        format!("{v:.digits$}")
+    } else {
+        "—".to_string()
+    }
 }
 
 /// The human-readable summary printed by `nudge check`.
 pub fn text(scene: &Scene, controls: &Controls, traj: &Trajectory) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let _ = writeln!(s, "scene {} — {} bodies, {} obstacles, {:.3} s, {}", scene.name, scene.bodies.len(), scene.obstacles.len(), scene.duration, scene.accuracy.label());
+    let _ = writeln!(
+        s,
+        "scene {} — {} bodies, {} obstacles, {:.3} s, {}",
+        scene.name,
+        scene.bodies.len(),
+        scene.obstacles.len(),
+        scene.duration,
+        scene.accuracy.label()
+    );
     let _ = writeln!(s, "\neffects (evaluations):");
     for e in Effect::ALL {
         let listed = if scene.effects.has(e) { "on " } else { "off" };
         let _ = writeln!(s, "  {:<11} {listed} {:>10}", e.name(), counter(traj, e));
     }
-    let _ = writeln!(s, "\ncontrols ({} free of {}):", controls.m(), controls.entries.len());
+    let _ = writeln!(
+        s,
+        "\ncontrols ({} free of {}):",
+        controls.m(),
+        controls.entries.len()
+    );
     for (i, e) in controls.entries.iter().enumerate() {
-        let _ = writeln!(s, "  {} {:<32} {:>14}", if e.free { "●" } else { "○" }, e.name, fixed(controls.get(scene, i), 6));
+        let _ = writeln!(
+            s,
+            "  {} {:<32} {:>14}",
+            if e.free { "●" } else { "○" },
+            e.name,
+            fixed(controls.get(scene, i), 6)
+        );
     }
     let _ = writeln!(s, "\nevents ({}):", traj.events.len());
     for e in &traj.events {
@@ -150,8 +187,18 @@ pub fn text(scene: &Scene, controls: &Controls, traj: &Trajectory) -> String {
     let _ = writeln!(s, "\nfinal states (t = {:.3} s):", traj.duration);
     for (i, b) in scene.bodies.iter().enumerate() {
         let st = traj.state(i, traj.duration, StateSide::After);
-        let f = |v: &crate::math::Vec3| format!("[{}, {}, {}]", fixed(v.x, 4), fixed(v.y, 4), fixed(v.z, 4));
-        let _ = writeln!(s, "  {:<10} x={} r={} v={} ω={}", b.name, f(&st.x), f(&st.orientation_vector()), f(&st.v), f(&st.w));
+        let f = |v: &crate::math::Vec3| {
+            format!("[{}, {}, {}]", fixed(v.x, 4), fixed(v.y, 4), fixed(v.z, 4))
+        };
+        let _ = writeln!(
+            s,
+            "  {:<10} x={} r={} v={} ω={}",
+            b.name,
+            f(&st.x),
+            f(&st.orientation_vector()),
+            f(&st.v),
+            f(&st.w)
+        );
     }
     for d in &traj.diagnostics {
         let _ = writeln!(s, "diagnostic: {d}");

@@ -8,33 +8,75 @@ use std::fmt::Write;
 /// the paths spread more along x than y, otherwise y–z.
 fn axes(views: &[&View]) -> (usize, usize) {
     let spread = |k: usize| {
-        let vals: Vec<f64> = views.iter().flat_map(|v| v.paths.iter().flat_map(|p| p.points.iter().map(move |x| x[k]))).collect();
+        let vals: Vec<f64> = views
+            .iter()
+            .flat_map(|v| {
+                v.paths
+                    .iter()
+                    .flat_map(|p| p.points.iter().map(move |x| x[k]))
+            })
+            .collect();
         let lo = vals.iter().cloned().fold(f64::INFINITY, f64::min);
         let hi = vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
         if hi > lo { hi - lo } else { 0.0 }
     };
-    if spread(0) >= spread(1) { (0, 2) } else { (1, 2) }
+    if spread(0) >= spread(1) {
+        (0, 2)
+    } else {
+        (1, 2)
+    }
 }
 
-fn panel(out: &mut String, view: &View, title: &str, (h, vax): (usize, usize), (x0, lo, scale, height): (f64, [f64; 2], f64, f64)) {
-    let map = |p: &Vec3| (x0 + 20.0 + (p[h] - lo[0]) * scale, height - 40.0 - (p[vax] - lo[1]) * scale);
-    let _ = writeln!(out, r##"<text x="{:.1}" y="20" font-family="monospace" font-size="14">{title}</text>"##, x0 + 20.0);
+fn panel(
+    out: &mut String,
+    view: &View,
+    title: &str,
+    (h, vax): (usize, usize),
+    (x0, lo, scale, height): (f64, [f64; 2], f64, f64),
+) {
+    let map = |p: &Vec3| {
+        (
+            x0 + 20.0 + (p[h] - lo[0]) * scale,
+            height - 40.0 - (p[vax] - lo[1]) * scale,
+        )
+    };
+    let _ = writeln!(
+        out,
+        r##"<text x="{:.1}" y="20" font-family="monospace" font-size="14">{title}</text>"##,
+        x0 + 20.0
+    );
     for (a, b) in &view.obstacles {
         let (ax, ay) = map(a);
         let (bx, by) = map(b);
         if [ax, ay, bx, by].iter().all(|v| v.is_finite()) {
-            let _ = writeln!(out, r##"<line x1="{ax:.1}" y1="{ay:.1}" x2="{bx:.1}" y2="{by:.1}" stroke="#888" stroke-width="1"/>"##);
+            let _ = writeln!(
+                out,
+                r##"<line x1="{ax:.1}" y1="{ay:.1}" x2="{bx:.1}" y2="{by:.1}" stroke="#888" stroke-width="1"/>"##
+            );
         }
     }
     for p in &view.paths {
-        let pts: Vec<String> = p.points.iter().map(map).filter(|(x, y)| x.is_finite() && y.is_finite()).map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+        let pts: Vec<String> = p
+            .points
+            .iter()
+            .map(map)
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .map(|(x, y)| format!("{x:.1},{y:.1}"))
+            .collect();
         let colour = ["#000", "#c03", "#06c", "#080"][p.body % 4];
-        let _ = writeln!(out, r##"<polyline fill="none" stroke="{colour}" stroke-width="1.2" points="{}"/>"##, pts.join(" "));
+        let _ = writeln!(
+            out,
+            r##"<polyline fill="none" stroke="{colour}" stroke-width="1.2" points="{}"/>"##,
+            pts.join(" ")
+        );
     }
     for e in &view.events {
         let (x, y) = map(&e.point);
         if x.is_finite() && y.is_finite() {
-            let _ = writeln!(out, r##"<circle cx="{x:.1}" cy="{y:.1}" r="2.5" fill="none" stroke="#c60"/>"##);
+            let _ = writeln!(
+                out,
+                r##"<circle cx="{x:.1}" cy="{y:.1}" r="2.5" fill="none" stroke="#c60"/>"##
+            );
         }
     }
 }
@@ -66,10 +108,27 @@ pub fn before_after(before: &View, after: &View) -> String {
     let (w, height) = (420.0, 340.0);
     let scale = ((w - 40.0) / (hi[0] - lo[0])).min((height - 70.0) / (hi[1] - lo[1]));
     let mut out = String::new();
-    let _ = writeln!(out, r##"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{height}" viewBox="0 0 {} {height}">"##, 2.0 * w, 2.0 * w);
+    let _ = writeln!(
+        out,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{height}" viewBox="0 0 {} {height}">"##,
+        2.0 * w,
+        2.0 * w
+    );
     let _ = writeln!(out, r##"<rect width="100%" height="100%" fill="white"/>"##);
-    panel(&mut out, before, &format!("{} — before", before.scene), (h, v), (0.0, lo, scale, height));
-    panel(&mut out, after, &format!("{} — after", after.scene), (h, v), (w, lo, scale, height));
+    panel(
+        &mut out,
+        before,
+        &format!("{} — before", before.scene),
+        (h, v),
+        (0.0, lo, scale, height),
+    );
+    panel(
+        &mut out,
+        after,
+        &format!("{} — after", after.scene),
+        (h, v),
+        (w, lo, scale, height),
+    );
     out.push_str("</svg>\n");
     out
 }

@@ -52,7 +52,13 @@ pub struct FiniteDifference {
     pub comparable: Vec<bool>,
 }
 
-fn perturbed(scene: &Scene, controls: &Controls, u: &DVector<f64>, col: usize, h: f64) -> Result<Trajectory, SimError> {
+fn perturbed(
+    scene: &Scene,
+    controls: &Controls,
+    u: &DVector<f64>,
+    col: usize,
+    h: f64,
+) -> Result<Trajectory, SimError> {
     let mut s = scene.clone();
     let mut v = u.clone();
     v[col] += h;
@@ -61,19 +67,42 @@ fn perturbed(scene: &Scene, controls: &Controls, u: &DVector<f64>, col: usize, h
     for (c, &i) in controls.free.iter().enumerate() {
         controls.set(&mut s, i, v[c]);
     }
-    simulate(&s, controls, &SimOptions { tangent: false, ..SimOptions::default() })
+    simulate(
+        &s,
+        controls,
+        &SimOptions {
+            tangent: false,
+            ..SimOptions::default()
+        },
+    )
 }
 
 impl FiniteDifference {
     /// Run the `2m` (central) or `m` (forward) perturbed simulations.
-    pub fn new(scene: &Scene, controls: &Controls, scheme: Scheme) -> Result<FiniteDifference, SimError> {
+    pub fn new(
+        scene: &Scene,
+        controls: &Controls,
+        scheme: Scheme,
+    ) -> Result<FiniteDifference, SimError> {
         Self::with_steps(scene, controls, scheme, None)
     }
 
     /// As [`FiniteDifference::new`] with a given step for every column.
-    pub fn with_steps(scene: &Scene, controls: &Controls, scheme: Scheme, step: Option<f64>) -> Result<FiniteDifference, SimError> {
+    pub fn with_steps(
+        scene: &Scene,
+        controls: &Controls,
+        scheme: Scheme,
+        step: Option<f64>,
+    ) -> Result<FiniteDifference, SimError> {
         let u = controls.values(scene);
-        let nominal = simulate(scene, controls, &SimOptions { tangent: false, ..SimOptions::default() })?;
+        let nominal = simulate(
+            scene,
+            controls,
+            &SimOptions {
+                tangent: false,
+                ..SimOptions::default()
+            },
+        )?;
         let sig = nominal.signature();
         let mut runs = Vec::new();
         let mut steps = Vec::new();
@@ -85,11 +114,19 @@ impl FiniteDifference {
                 Scheme::Central => Some(perturbed(scene, controls, &u, col, -h)?),
                 Scheme::Forward => None,
             };
-            comparable.push(plus.signature() == sig && minus.as_ref().is_none_or(|m| m.signature() == sig));
+            comparable.push(
+                plus.signature() == sig && minus.as_ref().is_none_or(|m| m.signature() == sig),
+            );
             steps.push(h);
             runs.push((plus, minus));
         }
-        Ok(FiniteDifference { scheme, steps, nominal, runs, comparable })
+        Ok(FiniteDifference {
+            scheme,
+            steps,
+            nominal,
+            runs,
+            comparable,
+        })
     }
 
     /// The difference-quotient Jacobian of `body`'s state at time `t`.
@@ -102,7 +139,11 @@ impl FiniteDifference {
     /// quantity), or `None` if a run lacks that event.
     pub fn at_event(&self, k: usize, body: usize, side: StateSide) -> Option<DMatrix<f64>> {
         let pick = |tr: &Trajectory| tr.events.get(k).map(|e| tr.state(body, e.t, side));
-        if self.runs.iter().any(|(p, m)| pick(p).is_none() || m.as_ref().is_some_and(|m| pick(m).is_none())) {
+        if self
+            .runs
+            .iter()
+            .any(|(p, m)| pick(p).is_none() || m.as_ref().is_some_and(|m| pick(m).is_none()))
+        {
             return None;
         }
         pick(&self.nominal)?;
@@ -153,7 +194,13 @@ pub fn max_relative_error(a: &DMatrix<f64>, b: &DMatrix<f64>, mask: &[bool], flo
 }
 
 /// Tangent Jacobian of a body at a time, simulated with tangents.
-pub fn tangent_jacobian(scene: &Scene, controls: &Controls, body: usize, t: f64, side: StateSide) -> Result<DMatrix<f64>, String> {
+pub fn tangent_jacobian(
+    scene: &Scene,
+    controls: &Controls,
+    body: usize,
+    t: f64,
+    side: StateSide,
+) -> Result<DMatrix<f64>, String> {
     let tr = simulate(scene, controls, &SimOptions::default()).map_err(|e| e.to_string())?;
     tr.jacobian(body, t, side).map_err(|e| e.to_string())
 }

@@ -13,7 +13,11 @@ pub fn scene(duration: f64) -> Scene {
         notes: String::new(),
         duration,
         gravity: Vec3::new(0.0, 0.0, -9.81),
-        effects: Effects { gravity: true, collisions: true, ..Effects::default() },
+        effects: Effects {
+            gravity: true,
+            collisions: true,
+            ..Effects::default()
+        },
         accuracy: Accuracy::default(),
         rest_speed: 1e-3,
         bodies: Vec::new(),
@@ -27,16 +31,26 @@ pub fn scene(duration: f64) -> Scene {
 
 /// A body with the given geometry and density 1000 kg/m³, inertia from the shape.
 pub fn body(name: &str, geometry: Geometry, position: Vec3) -> Body {
-    let props = geometry.mass_properties(1000.0).expect("bounded test geometry");
+    let props = geometry
+        .mass_properties(1000.0)
+        .expect("bounded test geometry");
     let geometry = geometry.recentered(&props.com);
     let eig = props.inertia.symmetric_eigen();
     let mut idx = [0usize, 1, 2];
     idx.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
-    let mut axes = nalgebra::Matrix3::from_columns(&[eig.eigenvectors.column(idx[0]), eig.eigenvectors.column(idx[1]), eig.eigenvectors.column(idx[2])]);
+    let mut axes = nalgebra::Matrix3::from_columns(&[
+        eig.eigenvectors.column(idx[0]),
+        eig.eigenvectors.column(idx[1]),
+        eig.eigenvectors.column(idx[2]),
+    ]);
     if axes.determinant() < 0.0 {
         axes.set_column(2, &(-axes.column(2)));
     }
-    let inertia = Vec3::new(eig.eigenvalues[idx[0]], eig.eigenvalues[idx[1]], eig.eigenvalues[idx[2]]);
+    let inertia = Vec3::new(
+        eig.eigenvalues[idx[0]],
+        eig.eigenvalues[idx[1]],
+        eig.eigenvalues[idx[2]],
+    );
     Body {
         name: name.into(),
         geometry,
@@ -59,7 +73,13 @@ pub fn body(name: &str, geometry: Geometry, position: Vec3) -> Body {
 }
 
 /// A body with the given mass and principal inertia (axes = body axes).
-pub fn body_with_inertia(name: &str, geometry: Geometry, position: Vec3, mass: f64, inertia: Vec3) -> Body {
+pub fn body_with_inertia(
+    name: &str,
+    geometry: Geometry,
+    position: Vec3,
+    mass: f64,
+    inertia: Vec3,
+) -> Body {
     let mut b = body(name, geometry, position);
     b.mass = mass;
     b.inertia = inertia;
@@ -82,17 +102,29 @@ pub fn obstacle(name: &str, geometry: Geometry, position: Vec3) -> Obstacle {
 
 /// The ground plane `z = 0`.
 pub fn ground() -> Obstacle {
-    obstacle("ground", Geometry::half_space(Vec3::z()).expect("unit normal"), Vec3::zeros())
+    obstacle(
+        "ground",
+        Geometry::half_space(Vec3::z()).expect("unit normal"),
+        Vec3::zeros(),
+    )
 }
 
 /// Free all four state blocks of every body.
 pub fn free_state(scene: &mut Scene) {
     for b in &mut scene.bodies {
-        b.free = vec![Block::Position, Block::Orientation, Block::Velocity, Block::AngularVelocity];
+        b.free = vec![
+            Block::Position,
+            Block::Orientation,
+            Block::Velocity,
+            Block::AngularVelocity,
+        ];
     }
 }
 
 /// Use the adaptive integrator.
 pub fn adaptive(scene: &mut Scene, tol: f64) {
-    scene.accuracy.method = Method::Adaptive { tol, max_step: 0.02 };
+    scene.accuracy.method = Method::Adaptive {
+        tol,
+        max_step: 0.02,
+    };
 }

@@ -30,7 +30,7 @@ pub use run::{Event, EventSource, TerminalEvents, draw, event_loop, run};
 pub use theme::Theme;
 pub use widgets::{MIN_HEIGHT, MIN_WIDTH, Screen, TooSmall, buffer_text};
 
-/// The key map as Markdown: the content of `docs/keys.md`.
+/// The key map as Markdown: the README's "Keys" section.
 pub fn keymap_markdown() -> String {
     keymap::markdown()
 }

@@ -51,7 +51,14 @@ fn invalid(msg: impl Into<String>) -> EditError {
 }
 
 fn finite3(v: &Vec3, what: &str) -> Result<(), EditError> {
-    if v.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(invalid(format!("{what} must be finite numbers, got [{}, {}, {}]", v.x, v.y, v.z))) }
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "{what} must be finite numbers, got [{}, {}, {}]",
+            v.x, v.y, v.z
+        )))
+    }
 }
 
 fn simulate_with_tangent(scene: &Scene, controls: &Controls) -> Result<Trajectory, EditError> {
@@ -63,7 +70,11 @@ impl Editor {
     pub fn new(scene: Scene, path: Option<PathBuf>) -> Result<Editor, EditError> {
         let controls = Controls::new(&scene);
         let traj = simulate_with_tangent(&scene, &controls)?;
-        let constraints = scene.constraints.iter().filter_map(|c| from_spec(&scene, c)).collect();
+        let constraints = scene
+            .constraints
+            .iter()
+            .filter_map(|c| from_spec(&scene, c))
+            .collect();
         let accuracy = scene.accuracy.label();
         let mut e = Editor {
             last_delta: vec![0.0; controls.entries.len()],
@@ -78,7 +89,11 @@ impl Editor {
             redo: Vec::new(),
             revision: 0,
             saved_revision: 0,
-            status: view::Status { accuracy, step: 1.0, ..Default::default() },
+            status: view::Status {
+                accuracy,
+                step: 1.0,
+                ..Default::default()
+            },
             update_ms: Vec::new(),
             updates: 0,
             edits: 0,
@@ -137,7 +152,10 @@ impl Editor {
     }
 
     fn snapshot(&self) -> Snapshot {
-        Snapshot { scene: self.scene.clone(), constraints: self.constraints.clone() }
+        Snapshot {
+            scene: self.scene.clone(),
+            constraints: self.constraints.clone(),
+        }
     }
 
     /// Rebuild the control layout and the motion after the scene changed.
@@ -165,20 +183,32 @@ impl Editor {
         self.redo.clear();
         self.revision += 1;
         self.last_delta = (0..self.controls.entries.len())
-            .map(|i| self.controls.get(&self.scene, i) - old_values.get(i).copied().unwrap_or(f64::NAN))
+            .map(|i| {
+                self.controls.get(&self.scene, i) - old_values.get(i).copied().unwrap_or(f64::NAN)
+            })
             .map(|d| if d.is_finite() { d } else { 0.0 })
             .collect();
     }
 
     fn values(&self) -> Vec<f64> {
-        (0..self.controls.entries.len()).map(|i| self.controls.get(&self.scene, i)).collect()
+        (0..self.controls.entries.len())
+            .map(|i| self.controls.get(&self.scene, i))
+            .collect()
     }
 
     fn refresh_geometry(&mut self) {
         let mut paths = Vec::new();
         for (i, b) in self.scene.bodies.iter().enumerate() {
             for p in &b.traced {
-                paths.push(view::Path { body: i, points: self.traj.path(i, p, 240).into_iter().map(|(_, x)| x).collect() });
+                paths.push(view::Path {
+                    body: i,
+                    points: self
+                        .traj
+                        .path(i, p, 240)
+                        .into_iter()
+                        .map(|(_, x)| x)
+                        .collect(),
+                });
             }
         }
         self.paths = paths;
@@ -187,7 +217,14 @@ impl Editor {
             .scene
             .obstacles
             .iter()
-            .flat_map(|o| o.geometry.outline(extent).into_iter().map(move |(a, b)| ((o.pose * Point3::from(a)).coords, (o.pose * Point3::from(b)).coords)))
+            .flat_map(|o| {
+                o.geometry.outline(extent).into_iter().map(move |(a, b)| {
+                    (
+                        (o.pose * Point3::from(a)).coords,
+                        (o.pose * Point3::from(b)).coords,
+                    )
+                })
+            })
             .collect();
     }
 
@@ -205,7 +242,17 @@ impl Editor {
     fn body_lines(&self, i: usize) -> Vec<(Vec3, Vec3)> {
         let s = self.traj.state(i, self.time, StateSide::After);
         let iso = Isometry3::from_parts(Translation3::from(s.x), s.q);
-        self.scene.bodies[i].geometry.outline(1.0).into_iter().map(|(a, b)| ((iso * Point3::from(a)).coords, (iso * Point3::from(b)).coords)).collect()
+        self.scene.bodies[i]
+            .geometry
+            .outline(1.0)
+            .into_iter()
+            .map(|(a, b)| {
+                (
+                    (iso * Point3::from(a)).coords,
+                    (iso * Point3::from(b)).coords,
+                )
+            })
+            .collect()
     }
 
     /// The selected body's events, nearest to the current time first.
@@ -214,15 +261,29 @@ impl Editor {
         events
             .iter()
             .enumerate()
-            .min_by(|a, b| (a.1.t - self.time).abs().total_cmp(&(b.1.t - self.time).abs()))
+            .min_by(|a, b| {
+                (a.1.t - self.time)
+                    .abs()
+                    .total_cmp(&(b.1.t - self.time).abs())
+            })
             .map(|(k, e)| (k, e.index))
     }
 
     /// One differential update towards `constraints`; applies it when it
     /// lowers the residual. Returns the diagnostics.
-    fn step(&mut self, constraints: &[Constraint]) -> Result<(bool, Vec<Diagnostic>, f64), EditError> {
+    fn step(
+        &mut self,
+        constraints: &[Constraint],
+    ) -> Result<(bool, Vec<Diagnostic>, f64), EditError> {
         let start = Instant::now();
-        let res = solve::update(&self.scene, &self.controls, &self.traj, constraints, &self.opts).map_err(|e| invalid(e.to_string()))?;
+        let res = solve::update(
+            &self.scene,
+            &self.controls,
+            &self.traj,
+            constraints,
+            &self.opts,
+        )
+        .map_err(|e| invalid(e.to_string()))?;
         let moved = res.trajectory.is_some();
         if let Some(tr) = res.trajectory {
             self.controls.write(&mut self.scene, &res.u);
@@ -230,7 +291,11 @@ impl Editor {
             // trial's motion is the same, but its Jacobian columns refer to
             // the old parameters, so simulate afresh in that case.
             let same = self.controls.values(&self.scene) == res.u;
-            self.traj = if tr.tangent && same { tr } else { simulate_with_tangent(&self.scene, &self.controls)? };
+            self.traj = if tr.tangent && same {
+                tr
+            } else {
+                simulate_with_tangent(&self.scene, &self.controls)?
+            };
         }
         self.updates += 1;
         self.update_ms.push(start.elapsed().as_secs_f64() * 1e3);
@@ -246,7 +311,11 @@ impl Editor {
         Ok((moved, res.diagnostics, res.after))
     }
 
-    fn nudge(&mut self, quantity: StateQuantity, delta: Vec3) -> Result<Vec<Diagnostic>, EditError> {
+    fn nudge(
+        &mut self,
+        quantity: StateQuantity,
+        delta: Vec3,
+    ) -> Result<Vec<Diagnostic>, EditError> {
         finite3(&delta, "a nudge")?;
         if self.controls.m() == 0 {
             return Err(invalid(format!(
@@ -264,7 +333,10 @@ impl Editor {
         let drag = Constraint {
             body: self.selected,
             anchor: Anchor::Time(self.time),
-            kind: Kind::State { quantities: vec![quantity], target: target.iter().cloned().collect() },
+            kind: Kind::State {
+                quantities: vec![quantity],
+                target: target.iter().cloned().collect(),
+            },
             drag: true,
         };
         let mut all = self.constraints.clone();
@@ -302,20 +374,30 @@ impl Editor {
         match edit {
             Edit::SelectBody(i) => {
                 if i >= self.scene.bodies.len() {
-                    return Err(invalid(format!("no body {i}: the scene has {} bodies", self.scene.bodies.len())));
+                    return Err(invalid(format!(
+                        "no body {i}: the scene has {} bodies",
+                        self.scene.bodies.len()
+                    )));
                 }
                 self.selected = i;
                 changed = false;
             }
             Edit::SelectTime(t) => {
                 if !t.is_finite() {
-                    return Err(invalid(format!("time must be a finite number of seconds, got {t}")));
+                    return Err(invalid(format!(
+                        "time must be a finite number of seconds, got {t}"
+                    )));
                 }
                 self.time = t.clamp(0.0, self.scene.duration);
                 changed = false;
             }
             Edit::SelectEvent(k) => {
-                let e = self.traj.events.get(k).ok_or_else(|| invalid(format!("no event {k}: the motion has {} events", self.traj.events.len())))?;
+                let e = self.traj.events.get(k).ok_or_else(|| {
+                    invalid(format!(
+                        "no event {k}: the motion has {} events",
+                        self.traj.events.len()
+                    ))
+                })?;
                 self.time = e.t;
                 changed = false;
             }
@@ -325,46 +407,113 @@ impl Editor {
                 changed = self.updates > updates0 && self.values() != old_values;
             }
             Edit::Nail { quantities } => {
-                let quantities = if quantities.is_empty() { StateQuantity::ALL.to_vec() } else { quantities };
+                let quantities = if quantities.is_empty() {
+                    StateQuantity::ALL.to_vec()
+                } else {
+                    quantities
+                };
                 let s = self.traj.state(self.selected, self.time, StateSide::After);
                 let target = Constraint::current_values(&s, &quantities);
-                self.constraints.push(Constraint { body: self.selected, anchor: Anchor::Time(self.time), kind: Kind::State { quantities, target }, drag: false });
+                self.constraints.push(Constraint {
+                    body: self.selected,
+                    anchor: Anchor::Time(self.time),
+                    kind: Kind::State { quantities, target },
+                    drag: false,
+                });
             }
             Edit::Float { quantities, side } => {
-                let quantities = if quantities.is_empty() { StateQuantity::ALL.to_vec() } else { quantities };
-                let (k, global) = self.nearest_collision().ok_or_else(|| invalid(format!("{} has no collision to float a constraint on", self.scene.bodies[self.selected].name)))?;
+                let quantities = if quantities.is_empty() {
+                    StateQuantity::ALL.to_vec()
+                } else {
+                    quantities
+                };
+                let (k, global) = self.nearest_collision().ok_or_else(|| {
+                    invalid(format!(
+                        "{} has no collision to float a constraint on",
+                        self.scene.bodies[self.selected].name
+                    ))
+                })?;
                 let e = &self.traj.events[global];
-                let s = self.traj.state(self.selected, e.t, if side == Side::Pre { StateSide::Before } else { StateSide::After });
+                let s = self.traj.state(
+                    self.selected,
+                    e.t,
+                    if side == Side::Pre {
+                        StateSide::Before
+                    } else {
+                        StateSide::After
+                    },
+                );
                 let target = Constraint::current_values(&s, &quantities);
-                self.constraints.push(Constraint { body: self.selected, anchor: Anchor::Event { collision: k, side }, kind: Kind::State { quantities, target }, drag: false });
+                self.constraints.push(Constraint {
+                    body: self.selected,
+                    anchor: Anchor::Event { collision: k, side },
+                    kind: Kind::State { quantities, target },
+                    drag: false,
+                });
             }
             Edit::Expression(x) => {
                 let n = self.scene.bodies.len();
                 let kind = match x {
                     Expression::EqualSpeed { other } if other < n => Kind::EqualSpeed { other },
-                    Expression::AngularSpeed { value } if value.is_finite() && value >= 0.0 => Kind::AngularSpeed { value },
-                    Expression::PointOnPlane { point, normal, offset } if normal.norm() > 0.0 && offset.is_finite() => {
+                    Expression::AngularSpeed { value } if value.is_finite() && value >= 0.0 => {
+                        Kind::AngularSpeed { value }
+                    }
+                    Expression::PointOnPlane {
+                        point,
+                        normal,
+                        offset,
+                    } if normal.norm() > 0.0 && offset.is_finite() => {
                         finite3(&point, "the point")?;
                         finite3(&normal, "the plane normal")?;
-                        Kind::PointOnPlane { point, normal, offset }
+                        Kind::PointOnPlane {
+                            point,
+                            normal,
+                            offset,
+                        }
                     }
-                    Expression::Distance { other, point, other_point, value } if other < n && value.is_finite() && value >= 0.0 => {
+                    Expression::Distance {
+                        other,
+                        point,
+                        other_point,
+                        value,
+                    } if other < n && value.is_finite() && value >= 0.0 => {
                         finite3(&point, "the point")?;
                         finite3(&other_point, "the other point")?;
-                        Kind::Distance { other, point, other_point, value }
+                        Kind::Distance {
+                            other,
+                            point,
+                            other_point,
+                            value,
+                        }
                     }
-                    other => return Err(invalid(format!("invalid expression constraint {other:?}: bodies must exist and values be finite and non-negative"))),
+                    other => {
+                        return Err(invalid(format!(
+                            "invalid expression constraint {other:?}: bodies must exist and values be finite and non-negative"
+                        )));
+                    }
                 };
-                self.constraints.push(Constraint { body: self.selected, anchor: Anchor::Time(self.time), kind, drag: false });
+                self.constraints.push(Constraint {
+                    body: self.selected,
+                    anchor: Anchor::Time(self.time),
+                    kind,
+                    drag: false,
+                });
             }
             Edit::RemoveConstraint(i) => {
                 if i >= self.constraints.len() {
-                    return Err(invalid(format!("no constraint {i}: there are {}", self.constraints.len())));
+                    return Err(invalid(format!(
+                        "no constraint {i}: there are {}",
+                        self.constraints.len()
+                    )));
                 }
                 self.constraints.remove(i);
             }
             Edit::SetBlock { body, block, free } => {
-                let b = self.scene.bodies.get_mut(body).ok_or_else(|| invalid(format!("no body {body}")))?;
+                let b = self
+                    .scene
+                    .bodies
+                    .get_mut(body)
+                    .ok_or_else(|| invalid(format!("no body {body}")))?;
                 b.free.retain(|x| *x != block);
                 if free {
                     b.free.push(block);
@@ -372,14 +521,34 @@ impl Editor {
                 }
                 self.rebuild()?;
             }
-            Edit::AddEventControls { normal, restitution } => {
-                let (_, global) = self.nearest_collision().ok_or_else(|| invalid(format!("{} has no collision to add controls at", self.scene.bodies[self.selected].name)))?;
+            Edit::AddEventControls {
+                normal,
+                restitution,
+            } => {
+                let (_, global) = self.nearest_collision().ok_or_else(|| {
+                    invalid(format!(
+                        "{} has no collision to add controls at",
+                        self.scene.bodies[self.selected].name
+                    ))
+                })?;
                 let e_used = self.traj.events[global].restitution;
-                let c = match self.scene.event_controls.iter_mut().find(|c| c.event == global) {
+                let c = match self
+                    .scene
+                    .event_controls
+                    .iter_mut()
+                    .find(|c| c.event == global)
+                {
                     Some(c) => c,
                     None => {
-                        self.scene.event_controls.push(EventControl { event: global, normal: None, restitution: None });
-                        self.scene.event_controls.last_mut().ok_or_else(|| invalid("internal: event control"))?
+                        self.scene.event_controls.push(EventControl {
+                            event: global,
+                            normal: None,
+                            restitution: None,
+                        });
+                        self.scene
+                            .event_controls
+                            .last_mut()
+                            .ok_or_else(|| invalid("internal: event control"))?
                     }
                 };
                 if normal && c.normal.is_none() {
@@ -392,7 +561,9 @@ impl Editor {
             }
             Edit::SetScale { kind, value } => {
                 if !(value.is_finite() && value > 0.0) {
-                    return Err(invalid(format!("scale must be a finite number > 0, got {value}")));
+                    return Err(invalid(format!(
+                        "scale must be a finite number > 0, got {value}"
+                    )));
                 }
                 let s = &mut self.scene.scales;
                 match kind.as_str() {
@@ -404,7 +575,11 @@ impl Editor {
                     "inertia" => s.inertia = value,
                     "normal" => s.normal = value,
                     "restitution" => s.restitution = value,
-                    other => return Err(invalid(format!("unknown scale {other:?}: use position, orientation, velocity, angular_velocity, mass, inertia, normal or restitution"))),
+                    other => {
+                        return Err(invalid(format!(
+                            "unknown scale {other:?}: use position, orientation, velocity, angular_velocity, mass, inertia, normal or restitution"
+                        )));
+                    }
                 }
                 self.rebuild()?;
             }
@@ -428,7 +603,12 @@ impl Editor {
                 }
                 self.redo.push(now);
                 self.revision += 1;
-                self.last_delta = (0..self.controls.entries.len()).map(|i| self.controls.get(&self.scene, i) - old_values.get(i).copied().unwrap_or(0.0)).collect();
+                self.last_delta = (0..self.controls.entries.len())
+                    .map(|i| {
+                        self.controls.get(&self.scene, i)
+                            - old_values.get(i).copied().unwrap_or(0.0)
+                    })
+                    .collect();
                 changed = false;
             }
             Edit::Redo => {
@@ -450,19 +630,39 @@ impl Editor {
         self.status.residual = self.residual();
         self.status.message = diagnostics.last().cloned();
         self.edits += 1;
-        Ok(Outcome { updates: self.updates - updates0, elapsed_ms: started.elapsed().as_secs_f64() * 1e3, diagnostics })
+        Ok(Outcome {
+            updates: self.updates - updates0,
+            elapsed_ms: started.elapsed().as_secs_f64() * 1e3,
+            diagnostics,
+        })
     }
 
     fn constraint_rows(&self) -> Vec<ConstraintRow> {
         self.constraints
             .iter()
             .map(|c| {
-                let residual = c.evaluate(&self.traj, false).map(|(r, _)| r.norm()).unwrap_or(f64::INFINITY);
+                let residual = c
+                    .evaluate(&self.traj, false)
+                    .map(|(r, _)| r.norm())
+                    .unwrap_or(f64::INFINITY);
                 let at = match c.anchor {
                     Anchor::Time(t) => format!("t={t:.3}"),
-                    Anchor::Event { collision, side } => format!("hit#{collision} {}", if side == Side::Pre { "pre" } else { "post" }),
+                    Anchor::Event { collision, side } => format!(
+                        "hit#{collision} {}",
+                        if side == Side::Pre { "pre" } else { "post" }
+                    ),
                 };
-                ConstraintRow { kind: c.label().to_string(), body: self.scene.bodies.get(c.body).map(|b| b.name.clone()).unwrap_or_default(), at, residual }
+                ConstraintRow {
+                    kind: c.label().to_string(),
+                    body: self
+                        .scene
+                        .bodies
+                        .get(c.body)
+                        .map(|b| b.name.clone())
+                        .unwrap_or_default(),
+                    at,
+                    residual,
+                }
             })
             .collect()
     }
@@ -470,7 +670,12 @@ impl Editor {
     /// The edited scene with its constraints, ready to save.
     pub fn scene_to_save(&self) -> Scene {
         let mut s = self.scene.clone();
-        s.constraints = self.constraints.iter().filter(|c| !c.drag).map(|c| to_spec(&self.scene, c)).collect();
+        s.constraints = self
+            .constraints
+            .iter()
+            .filter(|c| !c.drag)
+            .map(|c| to_spec(&self.scene, c))
+            .collect();
         s
     }
 }
@@ -482,16 +687,41 @@ fn validate_accuracy(acc: &Accuracy) -> Result<(), EditError> {
         Method::Adaptive { tol, max_step } => ok(tol) && tol < 1.0 && ok(max_step),
     } && ok(acc.root_tol)
         && acc.root_tol < 1e-3;
-    if good { Ok(()) } else { Err(invalid(format!("invalid accuracy {acc:?}: steps and tolerances must be finite and > 0 (step ≤ 1 s, tol < 1, root tol < 1e-3)"))) }
+    if good {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "invalid accuracy {acc:?}: steps and tolerances must be finite and > 0 (step ≤ 1 s, tol < 1, root tol < 1e-3)"
+        )))
+    }
 }
 
 fn to_spec(scene: &Scene, c: &Constraint) -> ConstraintSpec {
-    let name = |i: usize| scene.bodies.get(i).map(|b| b.name.clone()).unwrap_or_default();
+    let name = |i: usize| {
+        scene
+            .bodies
+            .get(i)
+            .map(|b| b.name.clone())
+            .unwrap_or_default()
+    };
     let (time, collision, side) = match c.anchor {
         Anchor::Time(t) => (Some(t), None, None),
-        Anchor::Event { collision, side } => (None, Some(collision), Some(if side == Side::Pre { "pre" } else { "post" }.to_string())),
+        Anchor::Event { collision, side } => (
+            None,
+            Some(collision),
+            Some(if side == Side::Pre { "pre" } else { "post" }.to_string()),
+        ),
     };
-    let mut spec = ConstraintSpec { kind: c.label().to_string(), body: name(c.body), other: None, time, collision, side, quantities: Vec::new(), target: Vec::new() };
+    let mut spec = ConstraintSpec {
+        kind: c.label().to_string(),
+        body: name(c.body),
+        other: None,
+        time,
+        collision,
+        side,
+        quantities: Vec::new(),
+        target: Vec::new(),
+    };
     match &c.kind {
         Kind::State { quantities, target } => {
             spec.quantities = quantities.clone();
@@ -499,10 +729,31 @@ fn to_spec(scene: &Scene, c: &Constraint) -> ConstraintSpec {
         }
         Kind::EqualSpeed { other } => spec.other = Some(name(*other)),
         Kind::AngularSpeed { value } => spec.target = vec![*value],
-        Kind::PointOnPlane { point, normal, offset } => spec.target = point.iter().chain(normal.iter()).cloned().chain([*offset]).collect(),
-        Kind::Distance { other, point, other_point, value } => {
+        Kind::PointOnPlane {
+            point,
+            normal,
+            offset,
+        } => {
+            spec.target = point
+                .iter()
+                .chain(normal.iter())
+                .cloned()
+                .chain([*offset])
+                .collect()
+        }
+        Kind::Distance {
+            other,
+            point,
+            other_point,
+            value,
+        } => {
             spec.other = Some(name(*other));
-            spec.target = point.iter().chain(other_point.iter()).cloned().chain([*value]).collect();
+            spec.target = point
+                .iter()
+                .chain(other_point.iter())
+                .cloned()
+                .chain([*value])
+                .collect();
         }
     }
     spec
@@ -512,25 +763,57 @@ fn from_spec(scene: &Scene, s: &ConstraintSpec) -> Option<Constraint> {
     let body = scene.body_index(&s.body)?;
     let anchor = match (s.time, s.collision) {
         (Some(t), _) => Anchor::Time(t),
-        (None, Some(k)) => Anchor::Event { collision: k, side: if s.side.as_deref() == Some("pre") { Side::Pre } else { Side::Post } },
+        (None, Some(k)) => Anchor::Event {
+            collision: k,
+            side: if s.side.as_deref() == Some("pre") {
+                Side::Pre
+            } else {
+                Side::Post
+            },
+        },
         _ => return None,
     };
     let other = || s.other.as_deref().and_then(|o| scene.body_index(o));
-    let v3 = |i: usize| Some(Vec3::new(*s.target.get(i)?, *s.target.get(i + 1)?, *s.target.get(i + 2)?));
+    let v3 = |i: usize| {
+        Some(Vec3::new(
+            *s.target.get(i)?,
+            *s.target.get(i + 1)?,
+            *s.target.get(i + 2)?,
+        ))
+    };
     let kind = match s.kind.as_str() {
         "nail" | "floating" => {
             if s.target.len() != 3 * s.quantities.len() {
                 return None;
             }
-            Kind::State { quantities: s.quantities.clone(), target: s.target.clone() }
+            Kind::State {
+                quantities: s.quantities.clone(),
+                target: s.target.clone(),
+            }
         }
         "equal_speed" => Kind::EqualSpeed { other: other()? },
-        "angular_speed" => Kind::AngularSpeed { value: *s.target.first()? },
-        "point_on_plane" => Kind::PointOnPlane { point: v3(0)?, normal: v3(3)?, offset: *s.target.get(6)? },
-        "distance" => Kind::Distance { other: other()?, point: v3(0)?, other_point: v3(3)?, value: *s.target.get(6)? },
+        "angular_speed" => Kind::AngularSpeed {
+            value: *s.target.first()?,
+        },
+        "point_on_plane" => Kind::PointOnPlane {
+            point: v3(0)?,
+            normal: v3(3)?,
+            offset: *s.target.get(6)?,
+        },
+        "distance" => Kind::Distance {
+            other: other()?,
+            point: v3(0)?,
+            other_point: v3(3)?,
+            value: *s.target.get(6)?,
+        },
         _ => return None,
     };
-    Some(Constraint { body, anchor, kind, drag: false })
+    Some(Constraint {
+        body,
+        anchor,
+        kind,
+        drag: false,
+    })
 }
 
 impl Core for Editor {
@@ -546,7 +829,11 @@ impl Core for Editor {
                 self.time = time;
                 self.revision = revision;
                 self.undo.truncate(undo_len);
-                if self.scene.bodies.len() != before.scene.bodies.len() || self.constraints != before.constraints || self.controls.values(&self.scene) != self.controls.values(&before.scene) || self.scene.event_controls != before.scene.event_controls {
+                if self.scene.bodies.len() != before.scene.bodies.len()
+                    || self.constraints != before.constraints
+                    || self.controls.values(&self.scene) != self.controls.values(&before.scene)
+                    || self.scene.event_controls != before.scene.event_controls
+                {
                     let _ = self.restore(before);
                 } else {
                     self.scene = before.scene;
@@ -586,8 +873,20 @@ impl Core for Editor {
                 scale: e.scale,
             })
             .collect();
-        let constraints = self.constraint_rows().into_iter().map(|r| view::ConstraintRow { kind: r.kind, body: r.body, at: r.at, residual: r.residual }).collect();
-        let others = (0..self.scene.bodies.len()).filter(|&i| i != self.selected).flat_map(|i| self.body_lines(i)).collect();
+        let constraints = self
+            .constraint_rows()
+            .into_iter()
+            .map(|r| view::ConstraintRow {
+                kind: r.kind,
+                body: r.body,
+                at: r.at,
+                residual: r.residual,
+            })
+            .collect();
+        let others = (0..self.scene.bodies.len())
+            .filter(|&i| i != self.selected)
+            .flat_map(|i| self.body_lines(i))
+            .collect();
         View {
             scene: self.scene.name.clone(),
             duration: self.scene.duration,
@@ -596,7 +895,11 @@ impl Core for Editor {
             selected: self.selected,
             paths: self.paths.clone(),
             obstacles: self.obstacle_lines.clone(),
-            selected_outline: if self.scene.bodies.is_empty() { Vec::new() } else { self.body_lines(self.selected) },
+            selected_outline: if self.scene.bodies.is_empty() {
+                Vec::new()
+            } else {
+                self.body_lines(self.selected)
+            },
             body_outlines: others,
             events,
             controls,
@@ -607,8 +910,12 @@ impl Core for Editor {
     }
 
     fn save(&mut self, path: Option<&Path>) -> Result<PathBuf, EditError> {
-        let target = path.map(Path::to_path_buf).or_else(|| self.path.clone()).ok_or_else(|| EditError::Save("no file name: use :w PATH".into()))?;
-        scene::save(&self.scene_to_save(), &target).map_err(|e| EditError::Save(format!("{}: {e}", target.display())))?;
+        let target = path
+            .map(Path::to_path_buf)
+            .or_else(|| self.path.clone())
+            .ok_or_else(|| EditError::Save("no file name: use :w PATH".into()))?;
+        scene::save(&self.scene_to_save(), &target)
+            .map_err(|e| EditError::Save(format!("{}: {e}", target.display())))?;
         self.path = Some(target.clone());
         self.saved_revision = self.revision;
         Ok(target)
@@ -620,10 +927,22 @@ impl Core for Editor {
 
     fn report(&self) -> serde_json::Value {
         let rows = self.constraint_rows();
-        let mut v = report::summary(&self.scene, &self.controls, &self.traj, &rows, &self.status.message.iter().cloned().collect::<Vec<_>>());
+        let mut v = report::summary(
+            &self.scene,
+            &self.controls,
+            &self.traj,
+            &rows,
+            &self.status.message.iter().cloned().collect::<Vec<_>>(),
+        );
         let mut times = self.update_ms.clone();
         times.sort_by(f64::total_cmp);
-        let pick = |q: f64| if times.is_empty() { 0.0 } else { times[((times.len() - 1) as f64 * q).round() as usize] };
+        let pick = |q: f64| {
+            if times.is_empty() {
+                0.0
+            } else {
+                times[((times.len() - 1) as f64 * q).round() as usize]
+            }
+        };
         if let Some(o) = v.as_object_mut() {
             o.insert("edits".into(), serde_json::json!(self.edits));
             o.insert("updates".into(), serde_json::json!(self.updates));

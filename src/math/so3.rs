@@ -30,12 +30,16 @@ pub fn exp_so3(r: &Vec3) -> UnitQuaternion<f64> {
 /// The exponential-map vector of a rotation, with `|r| ≤ π`.
 pub fn log_so3(q: &UnitQuaternion<f64>) -> Vec3 {
     // Choose the hemisphere with w ≥ 0 so the angle lies in [0, π].
-    let q = if q.w < 0.0 { -q.into_inner() } else { q.into_inner() };
+    let q = if q.w < 0.0 {
+        -q.into_inner()
+    } else {
+        q.into_inner()
+    };
     let v = q.imag();
     let s = v.norm();
     if s < 1e-12 {
         // angle ≈ 2 s, direction v/s: r ≈ 2 v (1 + s²/6).
-        return v * (2.0 / q.w.max(1e-300).min(1.0));
+        return v * (2.0 / q.w.clamp(1e-300, 1.0));
     }
     let angle = 2.0 * s.atan2(q.w);
     v * (angle / s)
@@ -63,7 +67,10 @@ fn jacobian_coefficients(angle: f64) -> (f64, f64) {
         )
     } else {
         let t2 = angle * angle;
-        ((1.0 - angle.cos()) / t2, (angle - angle.sin()) / (t2 * angle))
+        (
+            (1.0 - angle.cos()) / t2,
+            (angle - angle.sin()) / (t2 * angle),
+        )
     }
 }
 
@@ -137,7 +144,11 @@ mod tests {
         ] {
             let analytic = left_jacobian(&r);
             let fd = fd_left_jacobian(&r, 1e-6);
-            assert!((analytic - fd).norm() < 1e-8, "r = {r:?}: {}", (analytic - fd).norm());
+            assert!(
+                (analytic - fd).norm() < 1e-8,
+                "r = {r:?}: {}",
+                (analytic - fd).norm()
+            );
             let inv = left_jacobian_inv(&r);
             assert!((analytic * inv - Mat3::identity()).norm() < 1e-12);
             let rinv = right_jacobian_inv(&r);

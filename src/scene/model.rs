@@ -22,7 +22,13 @@ pub enum Effect {
 
 impl Effect {
     /// All effects, in report order.
-    pub const ALL: [Effect; 5] = [Effect::Gravity, Effect::Drag, Effect::Gyroscopic, Effect::Collisions, Effect::Friction];
+    pub const ALL: [Effect; 5] = [
+        Effect::Gravity,
+        Effect::Drag,
+        Effect::Gyroscopic,
+        Effect::Collisions,
+        Effect::Friction,
+    ];
 
     /// The name used in scene files and reports.
     pub fn name(self) -> &'static str {
@@ -96,7 +102,10 @@ pub struct Accuracy {
 
 impl Default for Accuracy {
     fn default() -> Self {
-        Accuracy { method: Method::Rk4 { step: 1e-3 }, root_tol: 1e-12 }
+        Accuracy {
+            method: Method::Rk4 { step: 1e-3 },
+            root_tol: 1e-12,
+        }
     }
 }
 
@@ -132,7 +141,14 @@ pub enum Block {
 
 impl Block {
     /// All body blocks in control-vector order.
-    pub const ALL: [Block; 6] = [Block::Position, Block::Orientation, Block::Velocity, Block::AngularVelocity, Block::Mass, Block::Inertia];
+    pub const ALL: [Block; 6] = [
+        Block::Position,
+        Block::Orientation,
+        Block::Velocity,
+        Block::AngularVelocity,
+        Block::Mass,
+        Block::Inertia,
+    ];
 
     /// The name used in scene files and control names.
     pub fn name(self) -> &'static str {
@@ -147,7 +163,10 @@ impl Block {
     }
 
     /// Number of entries in the block.
-    #[allow(clippy::len_without_is_empty, reason = "a block always has at least one entry")]
+    #[allow(
+        clippy::len_without_is_empty,
+        reason = "a block always has at least one entry"
+    )]
     pub fn len(self) -> usize {
         match self {
             Block::Mass => 1,
@@ -301,7 +320,12 @@ pub enum StateQuantity {
 }
 
 impl StateQuantity {
-    pub const ALL: [StateQuantity; 4] = [StateQuantity::Position, StateQuantity::Orientation, StateQuantity::Velocity, StateQuantity::AngularVelocity];
+    pub const ALL: [StateQuantity; 4] = [
+        StateQuantity::Position,
+        StateQuantity::Orientation,
+        StateQuantity::Velocity,
+        StateQuantity::AngularVelocity,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -391,6 +415,10 @@ impl Scene {
 
     /// Effective gravity (zero when the effect is not listed).
     pub fn effective_gravity(&self) -> Vec3 {
-        if self.effects.gravity { self.gravity } else { Vec3::zeros() }
+        if self.effects.gravity {
+            self.gravity
+        } else {
+            Vec3::zeros()
+        }
     }
 }

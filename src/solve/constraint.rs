@@ -20,15 +20,27 @@ pub enum Kind {
     /// The listed quantities equal `target` (3 numbers each; orientation as
     /// an exponential-map vector). A nail (fixed time), a floating
     /// constraint (event), or the drag a nudge creates.
-    State { quantities: Vec<StateQuantity>, target: Vec<f64> },
+    State {
+        quantities: Vec<StateQuantity>,
+        target: Vec<f64>,
+    },
     /// `|v_body| = |v_other|`.
     EqualSpeed { other: usize },
     /// `|ω| = value`.
     AngularSpeed { value: f64 },
     /// The body-frame `point` lies on the plane `normal · p = offset`.
-    PointOnPlane { point: Vec3, normal: Vec3, offset: f64 },
+    PointOnPlane {
+        point: Vec3,
+        normal: Vec3,
+        offset: f64,
+    },
     /// `|p − p_other| = value` between body-frame points.
-    Distance { other: usize, point: Vec3, other_point: Vec3, value: f64 },
+    Distance {
+        other: usize,
+        point: Vec3,
+        other_point: Vec3,
+        value: f64,
+    },
 }
 
 /// A constraint on one body.
@@ -84,22 +96,36 @@ impl Constraint {
     pub fn time(&self, traj: &Trajectory) -> Option<f64> {
         match self.anchor {
             Anchor::Time(t) => Some(t),
-            Anchor::Event { collision, .. } => traj.body_events(self.body).get(collision).map(|e| e.t),
+            Anchor::Event { collision, .. } => {
+                traj.body_events(self.body).get(collision).map(|e| e.t)
+            }
         }
     }
 
-    fn eval(&self, traj: &Trajectory, body: usize, with_jac: bool) -> Result<Eval, ConstraintError> {
+    fn eval(
+        &self,
+        traj: &Trajectory,
+        body: usize,
+        with_jac: bool,
+    ) -> Result<Eval, ConstraintError> {
         match self.anchor {
             Anchor::Time(t) => {
                 let state = traj.state(body, t, StateSide::After);
-                let jac = if with_jac { Some(traj.jacobian(body, t, StateSide::After)?) } else { None };
+                let jac = if with_jac {
+                    Some(traj.jacobian(body, t, StateSide::After)?)
+                } else {
+                    None
+                };
                 Ok(Eval { state, jac })
             }
             Anchor::Event { collision, side } => {
                 // Events are anchored on the constrained body; a second body
                 // in an expression is evaluated at the same (floating) time.
                 let events = traj.body_events(self.body);
-                let e = events.get(collision).ok_or(ConstraintError::MissingEvent { have: events.len(), want: collision })?;
+                let e = events.get(collision).ok_or(ConstraintError::MissingEvent {
+                    have: events.len(),
+                    want: collision,
+                })?;
                 let s = match side {
                     Side::Pre => StateSide::Before,
                     Side::Post => StateSide::After,
@@ -109,7 +135,9 @@ impl Constraint {
                     let j = traj.jacobian(body, e.t, s)?;
                     let resting = traj.resting(body, e.t, s);
                     let f = traj.flow(body, &state, resting);
-                    let dt = e.dt_du.as_ref().ok_or(ConstraintError::Tangent(traj.tangent_error.unwrap_or(TangentError::NotComputed)))?;
+                    let dt = e.dt_du.as_ref().ok_or(ConstraintError::Tangent(
+                        traj.tangent_error.unwrap_or(TangentError::NotComputed),
+                    ))?;
                     Some(j + f * dt.transpose())
                 } else {
                     None
@@ -121,7 +149,11 @@ impl Constraint {
 
     /// Residual `r` (the change wanted, `target − current`) and, with
     /// `with_jac`, the rows `C` with `C δu ≈ r`.
-    pub fn evaluate(&self, traj: &Trajectory, with_jac: bool) -> Result<(DVector<f64>, Option<DMatrix<f64>>), ConstraintError> {
+    pub fn evaluate(
+        &self,
+        traj: &Trajectory,
+        with_jac: bool,
+    ) -> Result<(DVector<f64>, Option<DMatrix<f64>>), ConstraintError> {
         let m = traj.m;
         let e = self.eval(traj, self.body, with_jac)?;
         let s = &e.state;
@@ -163,7 +195,9 @@ impl Constraint {
                     (Some(ja), Some(jb)) => {
                         let ua = va.try_normalize(1e-12).unwrap_or_default();
                         let ub = vb.try_normalize(1e-12).unwrap_or_default();
-                        Some(dynamic(&(ua.transpose() * ja.rows(6, 3) - ub.transpose() * jb.rows(6, 3))))
+                        Some(dynamic(
+                            &(ua.transpose() * ja.rows(6, 3) - ub.transpose() * jb.rows(6, 3)),
+                        ))
                     }
                     _ => None,
                 };
@@ -171,17 +205,32 @@ impl Constraint {
             }
             Kind::AngularSpeed { value } => {
                 let g = s.w.norm() - value;
-                let c = e.jac.map(|j| dynamic(&(s.w.try_normalize(1e-12).unwrap_or_default().transpose() * j.rows(9, 3))));
+                let c = e.jac.map(|j| {
+                    dynamic(
+                        &(s.w.try_normalize(1e-12).unwrap_or_default().transpose() * j.rows(9, 3)),
+                    )
+                });
                 Ok((DVector::from_element(1, -g), c))
             }
-            Kind::PointOnPlane { point, normal, offset } => {
+            Kind::PointOnPlane {
+                point,
+                normal,
+                offset,
+            } => {
                 let n = normal.normalize();
                 let arm = s.q * point;
                 let g = n.dot(&(s.x + arm)) - offset;
-                let c = e.jac.map(|j| dynamic(&(n.transpose() * (j.rows(0, 3) - skew(&arm) * j.rows(3, 3)))));
+                let c = e.jac.map(|j| {
+                    dynamic(&(n.transpose() * (j.rows(0, 3) - skew(&arm) * j.rows(3, 3))))
+                });
                 Ok((DVector::from_element(1, -g), c))
             }
-            Kind::Distance { other, point, other_point, value } => {
+            Kind::Distance {
+                other,
+                point,
+                other_point,
+                value,
+            } => {
                 let o = self.eval(traj, *other, with_jac)?;
                 let arm_a = s.q * point;
                 let arm_b = o.state.q * other_point;
@@ -218,6 +267,8 @@ impl Constraint {
 }
 
 /// Copy any matrix into a dynamically sized one.
-fn dynamic<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, R, C>>(m: &nalgebra::Matrix<f64, R, C, S>) -> DMatrix<f64> {
+fn dynamic<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, R, C>>(
+    m: &nalgebra::Matrix<f64, R, C, S>,
+) -> DMatrix<f64> {
     DMatrix::from_iterator(m.nrows(), m.ncols(), m.iter().cloned())
 }

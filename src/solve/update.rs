@@ -28,10 +28,21 @@ pub enum Diagnostic {
 impl std::fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Diagnostic::Conflicting { residual } => write!(f, "conflicting constraints: least-squares step, residual {residual:.2e} remains"),
-            Diagnostic::IllConditioned { condition } => write!(f, "ill-conditioned constraints (cond {condition:.1e}): damped step"),
-            Diagnostic::Pop { from, to } => write!(f, "pop: collision sequence changed ({from} → {to} events)"),
-            Diagnostic::Blocked => write!(f, "blocked: no nearby motion lowers the residual in this direction"),
+            Diagnostic::Conflicting { residual } => write!(
+                f,
+                "conflicting constraints: least-squares step, residual {residual:.2e} remains"
+            ),
+            Diagnostic::IllConditioned { condition } => write!(
+                f,
+                "ill-conditioned constraints (cond {condition:.1e}): damped step"
+            ),
+            Diagnostic::Pop { from, to } => {
+                write!(f, "pop: collision sequence changed ({from} → {to} events)")
+            }
+            Diagnostic::Blocked => write!(
+                f,
+                "blocked: no nearby motion lowers the residual in this direction"
+            ),
             Diagnostic::Grazing(m) => write!(f, "{m}"),
         }
     }
@@ -45,10 +56,14 @@ pub enum SolveError {
     #[error(transparent)]
     Constraint(#[from] ConstraintError),
     /// Nothing to solve for.
-    #[error("no free controls: free a block of {body} (e.g. `:free {body} velocity`) so the edit has something to change")]
+    #[error(
+        "no free controls: free a block of {body} (e.g. `:free {body} velocity`) so the edit has something to change"
+    )]
     NoFreeControls { body: String },
     /// The constraint rows do not involve any free control.
-    #[error("the free controls cannot move this: free a block of {body} that acts before this time (position, orientation, velocity or angular_velocity)")]
+    #[error(
+        "the free controls cannot move this: free a block of {body} that acts before this time (position, orientation, velocity or angular_velocity)"
+    )]
     Unreachable { body: String },
     /// A NaN or infinity appeared.
     #[error("the update produced a non-finite number; the edit was not applied")]
@@ -72,7 +87,13 @@ pub struct UpdateOptions {
 
 impl Default for UpdateOptions {
     fn default() -> Self {
-        UpdateOptions { step: 1.0, halvings: 4, samples: 24, rank_tol: 1e-12, seed: 0x5eed }
+        UpdateOptions {
+            step: 1.0,
+            halvings: 4,
+            samples: 24,
+            rank_tol: 1e-12,
+            seed: 0x5eed,
+        }
     }
 }
 
@@ -95,7 +116,11 @@ pub struct UpdateResult {
 }
 
 /// Stack every constraint's residual (and rows).
-fn assemble(traj: &Trajectory, constraints: &[Constraint], with_jac: bool) -> Result<(DVector<f64>, Option<DMatrix<f64>>), ConstraintError> {
+fn assemble(
+    traj: &Trajectory,
+    constraints: &[Constraint],
+    with_jac: bool,
+) -> Result<(DVector<f64>, Option<DMatrix<f64>>), ConstraintError> {
     let rows: usize = constraints.iter().map(Constraint::rows).sum();
     let mut r = DVector::zeros(rows);
     let mut c = with_jac.then(|| DMatrix::zeros(rows, traj.m));
@@ -123,7 +148,13 @@ pub fn residual_norm(traj: &Trajectory, constraints: &[Constraint]) -> f64 {
 /// Solve `min ½ δuᵀMδu + dᵀδu s.t. Cδu = r` via the rank-revealing
 /// eigendecomposition of `A = C M⁻¹ Cᵀ`. Returns `δu`, the condition number
 /// of `A` over the kept directions, and the unsatisfiable part of `r`.
-pub fn kkt(c: &DMatrix<f64>, r: &DVector<f64>, scales: &DVector<f64>, d: &DVector<f64>, rank_tol: f64) -> (DVector<f64>, f64, f64) {
+pub fn kkt(
+    c: &DMatrix<f64>,
+    r: &DVector<f64>,
+    scales: &DVector<f64>,
+    d: &DVector<f64>,
+    rank_tol: f64,
+) -> (DVector<f64>, f64, f64) {
     let k = c.nrows();
     let minv = scales.map(|s| 1.0 / s);
     let cm = c * DMatrix::from_diagonal(&minv); // C M⁻¹
@@ -147,11 +178,24 @@ pub fn kkt(c: &DMatrix<f64>, r: &DVector<f64>, scales: &DVector<f64>, d: &DVecto
                     }
                 }
             }
-            (lambda, if min_kept.is_finite() && min_kept > 0.0 { max / min_kept } else { f64::INFINITY })
+            (
+                lambda,
+                if min_kept.is_finite() && min_kept > 0.0 {
+                    max / min_kept
+                } else {
+                    f64::INFINITY
+                },
+            )
         }
         Err(_) => (DVector::zeros(k), f64::INFINITY),
     };
-    let du = DVector::from_iterator(scales.len(), (c.transpose() * &lambda - d).iter().zip(minv.iter()).map(|(x, m)| x * m));
+    let du = DVector::from_iterator(
+        scales.len(),
+        (c.transpose() * &lambda - d)
+            .iter()
+            .zip(minv.iter())
+            .map(|(x, m)| x * m),
+    );
     let unmet = (c * &du - r).norm();
     (du, condition, unmet)
 }
@@ -176,13 +220,27 @@ impl Rng {
     }
 }
 
-fn trial(scene: &Scene, controls: &Controls, u: &DVector<f64>, constraints: &[Constraint], tangent: bool) -> Option<(f64, Trajectory)> {
+fn trial(
+    scene: &Scene,
+    controls: &Controls,
+    u: &DVector<f64>,
+    constraints: &[Constraint],
+    tangent: bool,
+) -> Option<(f64, Trajectory)> {
     if !u.iter().all(|v| v.is_finite()) {
         return None;
     }
     let mut s = scene.clone();
     controls.write(&mut s, u);
-    let tr = simulate(&s, controls, &SimOptions { tangent, ..SimOptions::default() }).ok()?;
+    let tr = simulate(
+        &s,
+        controls,
+        &SimOptions {
+            tangent,
+            ..SimOptions::default()
+        },
+    )
+    .ok()?;
     let res = residual_norm(&tr, constraints);
     res.is_finite().then_some((res, tr))
 }
@@ -190,34 +248,64 @@ fn trial(scene: &Scene, controls: &Controls, u: &DVector<f64>, constraints: &[Co
 /// One differential update of `scene`'s free controls towards satisfying
 /// `constraints` (paper Eq. 15 with successive step reduction and sampling
 /// across discontinuities). `traj` is the current motion with tangents.
-pub fn update(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints: &[Constraint], opts: &UpdateOptions) -> Result<UpdateResult, SolveError> {
+pub fn update(
+    scene: &Scene,
+    controls: &Controls,
+    traj: &Trajectory,
+    constraints: &[Constraint],
+    opts: &UpdateOptions,
+) -> Result<UpdateResult, SolveError> {
     let u0 = controls.values(scene);
-    let body_name = |c: &Constraint| scene.bodies.get(c.body).map(|b| b.name.clone()).unwrap_or_default();
+    let body_name = |c: &Constraint| {
+        scene
+            .bodies
+            .get(c.body)
+            .map(|b| b.name.clone())
+            .unwrap_or_default()
+    };
     if controls.m() == 0 {
-        return Err(SolveError::NoFreeControls { body: constraints.first().map(body_name).unwrap_or_default() });
+        return Err(SolveError::NoFreeControls {
+            body: constraints.first().map(body_name).unwrap_or_default(),
+        });
     }
     let before = residual_norm(traj, constraints);
     let mut diagnostics = Vec::new();
     // Only the collisions up to the last constrained time shape the
     // residual: later events may come and go without a discontinuity in
     // what the edit asks for. The relevant signature is that prefix.
-    let horizon = constraints.iter().filter_map(|c| c.time(traj)).fold(0.0, f64::max) + 0.02 * scene.duration;
+    let horizon = constraints
+        .iter()
+        .filter_map(|c| c.time(traj))
+        .fold(0.0, f64::max)
+        + 0.02 * scene.duration;
     let relevant = traj.events.iter().take_while(|e| e.t <= horizon).count();
-    let prefix = |tr: &Trajectory| -> Vec<String> { tr.signature().into_iter().take(relevant).collect() };
+    let prefix =
+        |tr: &Trajectory| -> Vec<String> { tr.signature().into_iter().take(relevant).collect() };
     let signature = prefix(traj);
     // Desired values pull surface parameters back towards the geometric normal.
     let scales = controls.scales();
     let d = DVector::from_iterator(
         controls.m(),
-        controls.free.iter().enumerate().map(|(col, &i)| match controls.entries[i].desired {
-            Some(want) => -scales[col] * (want - u0[col]),
-            None => 0.0,
-        }),
+        controls
+            .free
+            .iter()
+            .enumerate()
+            .map(|(col, &i)| match controls.entries[i].desired {
+                Some(want) => -scales[col] * (want - u0[col]),
+                None => 0.0,
+            }),
     );
     let step = match assemble(traj, constraints, true) {
         Ok((r, Some(c))) => {
             if c.iter().all(|v| *v == 0.0) && r.norm() > 0.0 {
-                return Err(SolveError::Unreachable { body: constraints.iter().find(|c| c.drag).or(constraints.first()).map(body_name).unwrap_or_default() });
+                return Err(SolveError::Unreachable {
+                    body: constraints
+                        .iter()
+                        .find(|c| c.drag)
+                        .or(constraints.first())
+                        .map(body_name)
+                        .unwrap_or_default(),
+                });
             }
             let (du, condition, unmet) = kkt(&c, &r, &scales, &d, opts.rank_tol);
             if !du.iter().all(|v| v.is_finite()) {
@@ -250,7 +338,15 @@ pub fn update(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints
             if let Some((res, tr)) = trial(scene, controls, &u, constraints, true) {
                 if prefix(&tr) == signature {
                     if res < before {
-                        return Ok(UpdateResult { u, before, after: res, step: eps, condition, diagnostics, trajectory: Some(tr) });
+                        return Ok(UpdateResult {
+                            u,
+                            before,
+                            after: res,
+                            step: eps,
+                            condition,
+                            diagnostics,
+                            trajectory: Some(tr),
+                        });
                     }
                 } else if crossing.is_none() {
                     crossing = Some((eps, du.clone() * eps));
@@ -261,19 +357,39 @@ pub fn update(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints
     }
     // The step leaves the smooth component (or no direction is known):
     // sample around it and jump only if that beats staying put.
-    let centre = crossing.as_ref().map(|c| c.1.clone()).unwrap_or_else(|| du.clone() * opts.step);
+    let centre = crossing
+        .as_ref()
+        .map(|c| c.1.clone())
+        .unwrap_or_else(|| du.clone() * opts.step);
     let spread: DVector<f64> = if centre.norm() > 0.0 {
-        centre.map(|v| 0.5 * v.abs()).add_scalar(0.1 * centre.norm() / (controls.m() as f64).sqrt())
+        centre
+            .map(|v| 0.5 * v.abs())
+            .add_scalar(0.1 * centre.norm() / (controls.m() as f64).sqrt())
     } else {
         scales.map(|s| 1e-2 / s.sqrt())
     };
     let mut rng = Rng(opts.seed ^ (before.to_bits().rotate_left(17)));
     let candidates: Vec<DVector<f64>> = (0..opts.samples)
-        .map(|i| if i == 0 { centre.clone() } else { DVector::from_iterator(centre.len(), centre.iter().zip(spread.iter()).map(|(c, s)| c + s * rng.gauss())) })
+        .map(|i| {
+            if i == 0 {
+                centre.clone()
+            } else {
+                DVector::from_iterator(
+                    centre.len(),
+                    centre
+                        .iter()
+                        .zip(spread.iter())
+                        .map(|(c, s)| c + s * rng.gauss()),
+                )
+            }
+        })
         .collect();
     let best = candidates
         .par_iter()
-        .filter_map(|dv| trial(scene, controls, &(&u0 + dv), constraints, false).map(|(res, tr)| (res, dv.clone(), tr)))
+        .filter_map(|dv| {
+            trial(scene, controls, &(&u0 + dv), constraints, false)
+                .map(|(res, tr)| (res, dv.clone(), tr))
+        })
         .min_by(|a, b| a.0.total_cmp(&b.0));
     match best {
         Some((res, dv, tr)) if res < before => {
@@ -281,11 +397,27 @@ pub fn update(scene: &Scene, controls: &Controls, traj: &Trajectory, constraints
             if prefix(&tr) != signature {
                 diagnostics.push(Diagnostic::Pop { from, to });
             }
-            Ok(UpdateResult { u: &u0 + &dv, before, after: res, step: 0.0, condition, diagnostics, trajectory: Some(tr) })
+            Ok(UpdateResult {
+                u: &u0 + &dv,
+                before,
+                after: res,
+                step: 0.0,
+                condition,
+                diagnostics,
+                trajectory: Some(tr),
+            })
         }
         _ => {
             diagnostics.push(Diagnostic::Blocked);
-            Ok(UpdateResult { u: u0, before, after: before, step: 0.0, condition, diagnostics, trajectory: None })
+            Ok(UpdateResult {
+                u: u0,
+                before,
+                after: before,
+                step: 0.0,
+                condition,
+                diagnostics,
+                trajectory: None,
+            })
         }
     }
 }

@@ -1,6 +1,6 @@
 //! The key map: one data table of `(key, context, action, help)` from which
 //! the App dispatches, the `?` popup lists keys, the hint line is built and
-//! `docs/keys.md` is generated (helix `keymap!`, gitui `KeysList`).
+//! the README's key map is generated (helix `keymap!`, gitui `KeysList`).
 
 use super::camera::ViewKind;
 use super::key::{Key, KeyCode};
@@ -31,7 +31,7 @@ impl Context {
         Context::Prompt,
     ];
 
-    /// Heading in the help popup and `docs/keys.md`.
+    /// Heading in the help popup and the README.
     pub fn title(self) -> &'static str {
         match self {
             Context::Normal => "editing",
@@ -269,7 +269,7 @@ pub struct Binding {
     pub key: Key,
     pub context: Context,
     pub action: Action,
-    /// What the key does, for the help popup and `docs/keys.md`.
+    /// What the key does, for the help popup and the README.
     pub help: &'static str,
     /// Label in the hint line, if this key is advertised there. Keys with
     /// the same label are shown together (`hjkl nudge`).
@@ -317,7 +317,7 @@ const fn nudge(dir: Dir, big: bool) -> Action {
 }
 
 /// The key map. Order matters only for display: the help popup, the hint
-/// line and `docs/keys.md` list keys in this order.
+/// line and the README list keys in this order.
 #[rustfmt::skip]
 pub static KEYMAP: &[Binding] = &[
     // Nudging the selected body.
@@ -511,10 +511,11 @@ pub fn help_rows() -> Vec<HelpRow> {
     rows
 }
 
-/// The key map as Markdown (the content of `docs/keys.md`).
+/// The key map as Markdown: the README's "Keys" section between its
+/// `<!-- keys:begin -->` and `<!-- keys:end -->` markers.
 pub fn markdown() -> String {
     let mut out = String::from(
-        "# Keys\n\nGenerated from `src/tui/keymap.rs` (`nudge::tui::keymap_markdown`); \
+        "## Keys\n\nGenerated from `src/tui/keymap.rs` (`nudge::tui::keymap_markdown`); \
          the `?` popup shows the same table.\n\
          Keys are in vim notation, the notation key scripts use: `<S-Left>` is Shift+Left, \
          `<C-r>` is Ctrl+R, `<A-h>` is Alt+H, `<lt>` is `<`.\n\n\
@@ -526,7 +527,7 @@ pub fn markdown() -> String {
     );
     for context in Context::ALL {
         out.push_str(&format!(
-            "\n## {}\n\n| keys | action |\n|---|---|\n",
+            "\n### {}\n\n| keys | action |\n|---|---|\n",
             context.title()
         ));
         for row in help_rows().into_iter().filter(|r| r.context == context) {
@@ -545,7 +546,7 @@ pub fn markdown() -> String {
             out.push_str("| any other character | typed into the command |\n");
         }
     }
-    out.push_str("\n## commands (:)\n\n| command | does |\n|---|---|\n");
+    out.push_str("\n### commands (:)\n\n| command | does |\n|---|---|\n");
     for (cmd, does) in COMMANDS {
         out.push_str(&format!("| `{}` | {} |\n", cmd.replace('|', "\\|"), does));
     }
@@ -556,7 +557,7 @@ pub fn markdown() -> String {
     out
 }
 
-/// The `:` commands, for `docs/keys.md` and `:help`.
+/// The `:` commands, for the README and `:help`.
 pub const COMMANDS: &[(&str, &str)] = &[
     (":nail [qty...]", "nail the body now (default: all four)"),
     (
@@ -595,7 +596,7 @@ pub const COMMANDS: &[(&str, &str)] = &[
     (":help", "this help"),
 ];
 
-/// What the command arguments may be, for the help and `docs/keys.md`.
+/// What the command arguments may be, for the help and the README.
 pub const COMMAND_NOTES: &[&str] = &[
     "qty: position orientation velocity angular_velocity (pos rot vel angvel)",
     "block: position orientation velocity angular_velocity mass inertia",
@@ -721,15 +722,28 @@ mod tests {
         );
     }
 
+    /// The README's key map is this table: regenerate it with
+    /// `NUDGE_BLESS=1 cargo test docs_keys` after changing a binding.
     #[test]
-    fn docs_keys_md_is_up_to_date() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/keys.md");
-        let on_disk = std::fs::read_to_string(path).unwrap_or_default();
-        if on_disk != markdown() {
+    fn readme_keys_section_is_up_to_date() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/README.md");
+        let readme = std::fs::read_to_string(path).unwrap_or_default();
+        let (begin, end) = ("<!-- keys:begin -->\n", "<!-- keys:end -->");
+        let (Some(a), Some(b)) = (readme.find(begin), readme.find(end)) else {
+            panic!("README.md lacks the {begin:?} … {end:?} markers");
+        };
+        let current = &readme[a + begin.len()..b];
+        if current != markdown() {
             if std::env::var_os("NUDGE_BLESS").is_some() {
-                std::fs::write(path, markdown()).expect("write docs/keys.md");
+                let fresh = format!(
+                    "{}{}{}",
+                    &readme[..a + begin.len()],
+                    markdown(),
+                    &readme[b..]
+                );
+                std::fs::write(path, fresh).expect("write README.md");
             } else {
-                panic!("docs/keys.md is stale: rerun with NUDGE_BLESS=1");
+                panic!("README.md key map is stale: rerun with NUDGE_BLESS=1");
             }
         }
     }
