@@ -341,7 +341,23 @@ impl Editor {
         };
         let mut all = self.constraints.clone();
         all.push(drag);
-        let (_, diags, _) = self.step(&all)?;
+        let (moved, mut diags, _) = self.step(&all)?;
+        // The drag step satisfies the nails to first order only; a couple of
+        // Newton corrections on the persistent constraints alone put them
+        // back to tolerance (quadratic convergence), so nails hold.
+        if moved && !self.constraints.is_empty() {
+            let persistent = self.constraints.clone();
+            for _ in 0..2 {
+                if self.residual() < 1e-9 {
+                    break;
+                }
+                let (again, d, _) = self.step(&persistent)?;
+                diags.extend(d);
+                if !again {
+                    break;
+                }
+            }
+        }
         Ok(diags)
     }
 
