@@ -1,0 +1,211 @@
+//! `nudge bench` prints sane tables. Benchmarks are benchmarks: these tests
+//! check the shape of the output (headers, counts, finite positive times,
+//! the summary line), never how long anything took.
+
+use nudge::bench::{BenchArgs, run};
+
+fn bench(only: &str) -> String {
+    let args = BenchArgs {
+        quick: true,
+        csv: None,
+        only: Some(only.into()),
+    };
+    let mut out = Vec::new();
+    if let Err(e) = run(&args, &mut out) {
+        panic!("bench --only {only}: {e}");
+    }
+    String::from_utf8(out).unwrap_or_else(|e| panic!("output is not UTF-8: {e}"))
+}
+
+/// The rows of the table under the section heading `== name:` (header and
+/// rule skipped), split on runs of spaces (an empty leading cell, as in a
+/// row continuing a group, is dropped).
+fn table_rows(text: &str, name: &str) -> Vec<Vec<String>> {
+    let mut lines = text
+        .lines()
+        .skip_while(|l| !l.starts_with(&format!("== {name}:")))
+        .skip(1);
+    let header = lines.next().unwrap_or_default();
+    assert!(
+        header.starts_with("  "),
+        "table header under {name}: {header:?}"
+    );
+    let rule = lines.next().unwrap_or_default();
+    assert!(
+        rule.trim_start().starts_with("---"),
+        "rule under the header: {rule:?}"
+    );
+    lines
+        .take_while(|l| {
+            l.starts_with("  ") && l.split("  ").filter(|c| !c.trim().is_empty()).count() > 2
+        })
+        .map(|l| {
+            l.split("  ")
+                .map(str::trim)
+                .filter(|c| !c.is_empty())
+                .map(String::from)
+                .collect()
+        })
+        .collect()
+}
+
+fn no_nan(text: &str) {
+    for bad in ["NaN", "inf"] {
+        assert!(!text.contains(bad), "{bad} in the output:\n{text}");
+    }
+}
+
+fn positive_ms(cell: &str, what: &str) {
+    let v: f64 = cell
+        .parse()
+        .unwrap_or_else(|_| panic!("{what}: {cell:?} is not a number"));
+    assert!(v > 0.0 && v.is_finite(), "{what}: {v}");
+}
+
+/// Every effect switched off is evaluated 0 times, and when on it is
+/// evaluated (the tossed box flies, spins, lands and slides).
+#[test]
+fn effects_off_are_never_evaluated() {
+    let text = bench("effects");
+    no_nan(&text);
+    assert!(text.starts_with("nudge bench --quick:"), "{text}");
+    assert!(
+        text.contains("== effects: each effect switched off and on"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("== jacobian"),
+        "--only runs one section:\n{text}"
+    );
+    let rows = table_rows(&text, "effects");
+    let names: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(
+        names,
+        ["gravity", "drag", "gyroscopic", "collisions", "friction"],
+        "{text}"
+    );
+    for r in &rows {
+        assert_eq!(
+            r.len(),
+            8,
+            "effect, off ms/evals/events, on ms/evals/events, reps: {r:?}"
+        );
+        positive_ms(&r[1], "time with the effect off");
+        positive_ms(&r[4], "time with the effect on");
+        assert_eq!(r[2], "0", "{} off must not be evaluated: {r:?}", r[0]);
+        let on: u64 = r[5].parse().unwrap_or(0);
+        assert!(on > 0, "{} on must be evaluated: {r:?}", r[0]);
+    }
+    let last = text.lines().last().unwrap_or_default();
+    assert_eq!(
+        last,
+        "summary: tangent vs central differences: not measured (run the jacobian or methods section)"
+    );
+}
+
+/// The latency section reports the session replay, or says plainly that
+/// the session script is missing.
+#[test]
+fn latency_replays_the_session_or_says_it_is_missing() {
+    let text = bench("latency");
+    no_nan(&text);
+    if std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/sessions/eggs.keys")
+        .is_file()
+    {
+        let rows = table_rows(&text, "latency");
+        assert_eq!(rows.len(), 2, "{text}");
+        assert!(rows[0][0].starts_with("key"), "{text}");
+        assert_eq!(rows[1][0], "frame render", "{text}");
+    } else {
+        assert!(
+            text.contains("session script not found: tests/sessions/eggs.keys"),
+            "{text}"
+        );
+    }
+    assert!(
+        text.lines()
+            .last()
+            .unwrap_or_default()
+            .starts_with("summary: tangent vs central differences: ")
+    );
+}
+
+/// An unknown section name lists the sections and still ends with the summary.
+#[test]
+fn unknown_section_lists_the_sections() {
+    let text = bench("no-such-section");
+    assert!(text.contains("no section matches --only \"no-such-section\"; sections: jacobian, work-precision, methods, scaling, effects, latency"), "{text}");
+    assert!(
+        text.lines()
+            .last()
+            .unwrap_or_default()
+            .starts_with("summary: ")
+    );
+}
+
+/// The scaling sweeps print finite positive times and a growth exponent
+/// for each sweep.
+#[test]
+fn scaling_prints_times_and_exponents() {
+    let text = bench("scaling");
+    no_nan(&text);
+    let rows = table_rows(&text, "scaling");
+    assert!(
+        rows.len() >= 9,
+        "three sweeps of at least three points:\n{text}"
+    );
+    for r in &rows {
+        let time = &r[r.len() - 3];
+        positive_ms(time, "sim+J");
+    }
+    for what in ["N", "T", "m"] {
+        assert!(
+            text.contains(&format!("  time ∝ {what}^")),
+            "exponent of {what}:\n{text}"
+        );
+    }
+}
+
+/// The methods section compares all three methods on every paper scene and
+/// the run ends with the summary line.
+#[test]
+fn methods_and_the_summary_line() {
+    let text = bench("methods");
+    no_nan(&text);
+    let rows = table_rows(&text, "methods");
+    let names: Vec<&str> = rows.iter().map(|r| r[0].trim_end_matches('*')).collect();
+    assert_eq!(
+        names,
+        [
+            "eggs",
+            "plank",
+            "mug",
+            "scissors",
+            "particle-parabola",
+            "particle-polygon"
+        ],
+        "{text}"
+    );
+    for r in &rows {
+        assert_eq!(r.len(), 9, "{r:?}");
+        positive_ms(&r[2], "tangent");
+        positive_ms(&r[4], "central");
+        positive_ms(&r[6], "forward");
+    }
+    let last = text.lines().last().unwrap_or_default();
+    let rest = last
+        .strip_prefix("summary: tangent vs central differences: ")
+        .unwrap_or_else(|| panic!("{last}"));
+    let (speed, rest) = rest
+        .split_once("x faster, ")
+        .unwrap_or_else(|| panic!("{last}"));
+    let (accuracy, rest) = rest
+        .split_once("x more accurate")
+        .unwrap_or_else(|| panic!("{last}"));
+    assert_eq!(rest, " (median over scenes)");
+    for v in [speed, accuracy] {
+        let v: f64 = v.parse().unwrap_or_else(|_| panic!("{v:?} in {last}"));
+        assert!(v > 0.0 && v.is_finite());
+    }
+}
