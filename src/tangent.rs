@@ -52,6 +52,12 @@ pub struct FiniteDifference {
     pub comparable: Vec<bool>,
 }
 
+/// The signature of the events up to time `t` (inclusive).
+fn prefix(tr: &Trajectory, t: f64) -> Vec<String> {
+    let n = tr.events.iter().take_while(|e| e.t <= t).count();
+    tr.signature().into_iter().take(n).collect()
+}
+
 fn perturbed(
     scene: &Scene,
     controls: &Controls,
@@ -127,6 +133,26 @@ impl FiniteDifference {
             runs,
             comparable,
         })
+    }
+
+    /// Per column: whether both perturbed runs keep the nominal collision
+    /// sequence up to time `t` — what a state at `t` depends on (events
+    /// later in the motion may differ without affecting it).
+    pub fn comparable_until(&self, t: f64) -> Vec<bool> {
+        // Margin: a perturbed event just after `t` may move to just before it.
+        let reference = prefix(&self.nominal, t);
+        self.runs
+            .iter()
+            .zip(&self.steps)
+            .map(|((p, m), h)| {
+                let window = t + 1e3 * h;
+                let same = |tr: &Trajectory| {
+                    prefix(tr, t) == reference
+                        && prefix(tr, window) == prefix(&self.nominal, window)
+                };
+                same(p) && m.as_ref().is_none_or(same)
+            })
+            .collect()
     }
 
     /// The difference-quotient Jacobian of `body`'s state at time `t`.

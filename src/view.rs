@@ -96,4 +96,6 @@ pub struct View {
     pub status: Status,
     /// Whether there are edits not yet saved.
     pub dirty: bool,
+    /// The accuracy settings in force (the status line shows their label).
+    pub accuracy: crate::scene::Accuracy,
 }

@@ -146,6 +146,7 @@ impl FakeCore {
                 message: None,
             },
             dirty: false,
+            accuracy: Default::default(),
         };
         FakeCore {
             view,

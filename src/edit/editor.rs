@@ -922,6 +922,7 @@ impl Core for Editor {
             constraints,
             status: self.status.clone(),
             dirty: self.dirty(),
+            accuracy: self.scene.accuracy,
         }
     }
 

@@ -142,9 +142,8 @@ impl App {
             edits: 0,
             apply_ms: Vec::new(),
         };
-        if let Some(method) = parse_accuracy_label(&view.status.accuracy, DEFAULT_MAX_STEP) {
-            app.remember(method);
-        }
+        app.remember(view.accuracy.method);
+        app.root_tol = view.accuracy.root_tol;
         app.refit(view);
         app
     }
@@ -682,7 +681,11 @@ impl App {
             }
         };
         let view = core.view();
-        let current = parse_accuracy_label(&view.status.accuracy, self.max_step);
+        // The core's settings are the truth (a scene may set its own root
+        // tolerance); remember them so a `:set` changes only what it names.
+        self.remember(view.accuracy.method);
+        self.root_tol = view.accuracy.root_tol;
+        let current = Some(view.accuracy.method);
         let accuracy = |app: &App, method: Method| Accuracy {
             method,
             root_tol: app.root_tol,

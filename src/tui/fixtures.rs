@@ -96,6 +96,7 @@ pub fn view() -> View {
             message: None,
         },
         dirty: false,
+        accuracy: Default::default(),
     }
 }
 

@@ -1,0 +1,64 @@
+//! Smoke test of the real binary in a pseudo-terminal: it draws, takes
+//! keys, asks before discarding edits, quits cleanly and restores the
+//! terminal (leaves the alternate screen).
+
+use std::io::Write;
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+#[test]
+fn the_editor_runs_in_a_pseudo_terminal_and_quits_cleanly() {
+    if Command::new("script").arg("--version").output().is_err() {
+        // util-linux `script` allocates the pty; every CI machine here has it.
+        panic!("the `script` command (util-linux) is needed for this test");
+    }
+    let bin = env!("CARGO_BIN_EXE_nudge");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bounce.toml");
+    let mut child = Command::new("script")
+        .args([
+            "-qfec",
+            &format!("stty cols 80 rows 24; {bin} {scene}"),
+            "/dev/null",
+        ])
+        .env("TERM", "xterm")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn script");
+    let mut stdin = child.stdin.take().expect("stdin");
+    let pause = |ms| std::thread::sleep(Duration::from_millis(ms));
+    pause(1500);
+    // Nudge the ball (an unsaved edit), try to quit, then confirm.
+    stdin.write_all(b"]]]]]lll").unwrap();
+    pause(1500);
+    stdin.write_all(b"q").unwrap();
+    pause(500);
+    stdin.write_all(b"y").unwrap();
+    pause(500);
+    drop(stdin);
+    let out = child.wait_with_output().expect("wait");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "exit status {:?}, stderr {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("\u{1b}[?1049h"),
+        "entered the alternate screen"
+    );
+    assert!(text.contains("bounce"), "drew the scene");
+    assert!(
+        text.contains("quit anyway?"),
+        "asked before discarding the edit"
+    );
+    let left = text
+        .rfind("\u{1b}[?1049l")
+        .expect("left the alternate screen");
+    assert!(
+        left > text.rfind("quit anyway?").unwrap_or(0),
+        "restored after the prompt"
+    );
+}

@@ -1,0 +1,56 @@
+//! Whole screens of real scripted sessions (the editor core, key map and
+//! renderer together), pinned as insta snapshots. Latencies are the only
+//! non-deterministic text on screen and are masked.
+
+use nudge::edit::Editor;
+use nudge::script::{parse_keys, run_script};
+
+fn screen(scene: &str, keys: &str, size: (u16, u16)) -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);
+    let mut editor = Editor::open(&path).expect("scene opens");
+    let keys = parse_keys(keys, "inline").expect("keys parse");
+    let out = run_script(&mut editor, &keys, size);
+    mask_latency(&out.screen)
+}
+
+/// Replace `upd 12.34ms` with `upd ‹ms›`.
+fn mask_latency(text: &str) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find("upd ") {
+        out.push_str(&rest[..i + 4]);
+        rest = &rest[i + 4..];
+        match rest.find("ms") {
+            Some(j) if j < 12 => {
+                out.push_str("‹ms›");
+                rest = &rest[j + 2..];
+            }
+            _ => {}
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+#[test]
+fn bounce_after_a_drag_and_a_nail() {
+    let s = screen(
+        "scenes/bounce.toml",
+        "]]]]]]]]]] # a tenth of the way in\n lll kk # drag the ball right and up\n a # nail it\n 2 # side view\n",
+        (80, 24),
+    );
+    insta::assert_snapshot!(s);
+}
+
+#[test]
+fn help_popup_lists_the_keys() {
+    let s = screen("scenes/bounce.toml", "?", (80, 24));
+    insta::assert_snapshot!(s);
+}
+
+#[test]
+fn too_small_terminal_says_so() {
+    let s = screen("scenes/bounce.toml", "l", (40, 10));
+    assert!(s.contains("terminal too small"), "{s}");
+    insta::assert_snapshot!(s);
+}
