@@ -199,9 +199,11 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write) -> std::io::Result<()> {
     }
 }
 
-/// A ratio for the summary line: `12`, `3.4`, `0.52`.
+/// A ratio for the summary line: `3.2e4`, `12`, `3.4`, `0.52`.
 fn summary_number(v: f64) -> String {
-    if v >= 10.0 {
+    if v >= 1e4 {
+        format!("{v:.1e}")
+    } else if v >= 10.0 {
         format!("{v:.0}")
     } else if v >= 1.0 {
         format!("{v:.1}")
