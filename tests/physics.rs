@@ -273,3 +273,128 @@ fn sustained_body_contact_is_reported_not_looped() {
         "{err}"
     );
 }
+
+/// Effects not listed are never evaluated, and listing drag with a zero
+/// coefficient (or the gyroscopic term for an isotropic body) gives the
+/// same motion to the last bit.
+#[test]
+fn absent_effects_are_never_evaluated_and_zero_coefficients_are_bit_identical() {
+    let make = |drag_listed: bool, gyro_listed: bool| {
+        let mut s = testkit::scene(1.5);
+        s.effects = nudge::scene::Effects {
+            gravity: true,
+            collisions: true,
+            drag: drag_listed,
+            gyroscopic: gyro_listed,
+            ..Default::default()
+        };
+        let mut b = body(
+            "ball",
+            Geometry::sphere(0.1).unwrap(),
+            Vec3::new(0.0, 0.0, 1.0),
+        );
+        b.velocity = Vec3::new(1.0, 0.5, 2.0);
+        b.angular_velocity = Vec3::new(0.0, 3.0, 1.0);
+        b.restitution = 0.7;
+        b.drag = 0.0;
+        s.bodies.push(b);
+        s.obstacles.push(ground());
+        s
+    };
+    let plain = run(&make(false, false));
+    assert_eq!(
+        plain.counters.drag.get(),
+        0,
+        "drag not listed: never evaluated"
+    );
+    assert_eq!(
+        plain.counters.gyroscopic.get(),
+        0,
+        "gyroscopic not listed: never evaluated"
+    );
+    assert_eq!(
+        plain.counters.friction.get(),
+        0,
+        "friction not listed: never evaluated"
+    );
+    assert!(plain.counters.collisions.get() > 0 && plain.counters.gravity.get() > 0);
+    let with_zero_drag = run(&make(true, false));
+    assert!(
+        with_zero_drag.counters.drag.get() > 0,
+        "listed drag is evaluated"
+    );
+    let isotropic_gyro = run(&make(false, true));
+    assert_eq!(
+        isotropic_gyro.counters.gyroscopic.get(),
+        0,
+        "isotropic body: the gyroscopic term is skipped"
+    );
+    for other in [&with_zero_drag, &isotropic_gyro] {
+        assert_eq!(other.events.len(), plain.events.len());
+        for t in [0.0, 0.31, 0.77, 1.5] {
+            let (a, b) = (
+                plain.state(0, t, StateSide::After),
+                other.state(0, t, StateSide::After),
+            );
+            assert_eq!(a.x.map(f64::to_bits), b.x.map(f64::to_bits), "t={t}");
+            assert_eq!(a.v.map(f64::to_bits), b.v.map(f64::to_bits), "t={t}");
+            assert_eq!(
+                a.q.coords.map(f64::to_bits),
+                b.q.coords.map(f64::to_bits),
+                "t={t}"
+            );
+        }
+    }
+    // Without the collisions effect there is no event search at all.
+    let mut s = make(false, false);
+    s.effects.collisions = false;
+    let free = run(&s);
+    assert_eq!(free.counters.collisions.get(), 0);
+    assert!(free.events.is_empty());
+}
+
+/// After an impulse the same contact must not fire again: a ball between a
+/// floor and a ceiling with e = 1 and no gravity bounces exactly twice per
+/// period, 10 000 times.
+#[test]
+fn no_contact_fires_twice_over_ten_thousand_bounces() {
+    let mut s = testkit::scene(0.0);
+    s.effects = nudge::scene::Effects {
+        collisions: true,
+        ..Default::default()
+    };
+    let gap = 1.0;
+    let r = 0.1;
+    let speed = 50.0;
+    let period = 2.0 * (gap - 2.0 * r) / speed;
+    let bounces = 10_000;
+    s.duration = period * (bounces as f64 / 2.0) - 0.25 * period;
+    let mut b = body(
+        "ball",
+        Geometry::sphere(r).unwrap(),
+        Vec3::new(0.0, 0.0, 0.5),
+    );
+    b.velocity = Vec3::new(0.0, 0.0, -speed);
+    s.bodies.push(b);
+    s.obstacles.push(ground());
+    s.obstacles.push(testkit::obstacle(
+        "ceiling",
+        Geometry::half_space(Vec3::new(0.0, 0.0, -1.0)).unwrap(),
+        Vec3::new(0.0, 0.0, gap),
+    ));
+    let tr = run(&s);
+    assert_eq!(tr.events.len(), bounces, "exactly two events per period");
+    let first = (0.5 - r) / speed;
+    for (k, e) in tr.events.iter().enumerate() {
+        let expected = first + k as f64 * period / 2.0;
+        assert!(
+            (e.t - expected).abs() < 1e-9 * (1.0 + expected),
+            "bounce {k} at {} vs {expected}",
+            e.t
+        );
+        assert!(
+            matches!(e.b, nudge::sim::Party::Obstacle(o) if o == k % 2),
+            "alternates floor/ceiling"
+        );
+    }
+}
