@@ -273,14 +273,20 @@ pub fn update(
     // Only the collisions up to the last constrained time shape the
     // residual: later events may come and go without a discontinuity in
     // what the edit asks for. The relevant signature is that prefix.
-    let horizon = constraints
+    let last = constraints
         .iter()
         .filter_map(|c| c.time(traj))
-        .fold(0.0, f64::max)
-        + 0.02 * scene.duration;
+        .fold(0.0, f64::max);
+    let horizon = last + 0.02 * scene.duration;
     let relevant = traj.events.iter().take_while(|e| e.t <= horizon).count();
-    let prefix =
-        |tr: &Trajectory| -> Vec<String> { tr.signature().into_iter().take(relevant).collect() };
+    // A trial compares its first `relevant` events, and also every event
+    // it has before the last constrained time: a collision that appears
+    // before a constraint (a second bounce, a new contact) is a new smooth
+    // component even when the first `relevant` events are unchanged.
+    let prefix = |tr: &Trajectory| -> Vec<String> {
+        let n = relevant.max(tr.events.iter().take_while(|e| e.t <= last).count());
+        tr.signature().into_iter().take(n).collect()
+    };
     let signature = prefix(traj);
     // Desired values pull surface parameters back towards the geometric normal.
     let scales = controls.scales();
@@ -420,5 +426,68 @@ pub fn update(
                 trajectory: None,
             })
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::edit::Side;
+    use crate::math::Vec3;
+    use crate::scene::StateQuantity;
+    use crate::solve::{Anchor, Kind};
+    use crate::testkit;
+
+    /// Regression: the relevant-signature prefix compared only the first
+    /// `relevant` events of a trial, so a step that made a *new* collision
+    /// appear before the constrained time (here the ball now hits the floor
+    /// before the dragged time, where the current motion has no event at
+    /// all) counted as a smooth step: no pop was reported and the motion
+    /// jumped to another smooth component silently. Such a step must be
+    /// refused by the step reduction, which then keeps a shorter step
+    /// inside the current component.
+    #[test]
+    fn a_new_collision_before_the_constrained_time_is_a_signature_change() {
+        let mut scene = testkit::scene(1.0);
+        let ball = crate::geometry::Geometry::sphere(0.1).expect("ball");
+        scene
+            .bodies
+            .push(testkit::body("ball", ball, Vec3::new(0.0, 0.0, 1.0)));
+        scene.obstacles.push(testkit::ground());
+        testkit::free_state(&mut scene);
+        let controls = Controls::new(&scene);
+        let traj = simulate(&scene, &controls, &SimOptions::default()).expect("simulates");
+        let t = 0.4;
+        assert!(
+            traj.events.iter().all(|e| e.t > t),
+            "no collision before the drag yet"
+        );
+        let z = traj.state(0, t, crate::sim::StateSide::After).x.z;
+        // Drag the ball 0.2 m down at t: the full linear step starts it so
+        // low that it bounces before t.
+        let drag = Constraint {
+            body: 0,
+            anchor: Anchor::Time(t),
+            kind: Kind::State {
+                quantities: vec![StateQuantity::Position],
+                target: vec![0.0, 0.0, z - 0.2],
+            },
+            drag: true,
+        };
+        let res =
+            update(&scene, &controls, &traj, &[drag], &UpdateOptions::default()).expect("update");
+        let tr = res.trajectory.expect("moved");
+        let bounced = tr.events.iter().any(|e| e.t <= t);
+        let popped = res
+            .diagnostics
+            .iter()
+            .any(|d| matches!(d, Diagnostic::Pop { .. }));
+        assert!(
+            !bounced || popped,
+            "a new bounce before t = {t} s was taken as a smooth step: {:?}",
+            res.diagnostics
+        );
+        // A floating constraint's event still anchors the prefix as before.
+        let _ = Side::Post;
     }
 }
