@@ -42,7 +42,11 @@ pub fn point_parabola(curvature: f64, x: f64, z: f64) -> f64 {
     let dg = |s: f64| 6.0 * k * k * s * s + 1.0 + 2.0 * k * z;
     // The foot lies between 0 and x (|s| ≤ |x|) for points above the vertex
     // region; bracket and use Newton with bisection fallback.
-    let (mut lo, mut hi) = if x >= 0.0 { (0.0, x.max(1e-300)) } else { (x, 0.0) };
+    let (mut lo, mut hi) = if x >= 0.0 {
+        (0.0, x.max(1e-300))
+    } else {
+        (x, 0.0)
+    };
     // Widen the bracket if needed (points far below the surface).
     let mut width = 1.0_f64.max(x.abs());
     while g(lo) > 0.0 {
@@ -66,7 +70,7 @@ pub fn point_parabola(curvature: f64, x: f64, z: f64) -> f64 {
         }
         let d = dg(s);
         let mut next = s - gs / d;
-        if !(next > lo && next < hi) || !next.is_finite() {
+        if next <= lo || next >= hi || !next.is_finite() {
             next = 0.5 * (lo + hi);
         }
         if (next - s).abs() <= 1e-15 * (1.0 + s.abs()) {
@@ -96,11 +100,20 @@ fn parabola_point(pose: &Isometry3<f64>, curvature: f64, p: &Vec3) -> (f64, Vec3
         Vec3::new(2.0 * curvature * s, 0.0, 1.0).normalize()
     };
     let sign = if above { 1.0 } else { -1.0 };
-    (sign * dist, pose.rotation * n_local, (pose * to_point(&foot)).coords)
+    (
+        sign * dist,
+        pose.rotation * n_local,
+        (pose * to_point(&foot)).coords,
+    )
 }
 
 /// Contact between a bounded part `pa` (at `pose_a`) and a parabola part.
-fn against_parabola(pa: &Part, pose_a: &Isometry3<f64>, pose_b: &Isometry3<f64>, curvature: f64) -> Option<(f64, Vec3, Vec3, Vec3)> {
+fn against_parabola(
+    pa: &Part,
+    pose_a: &Isometry3<f64>,
+    pose_b: &Isometry3<f64>,
+    curvature: f64,
+) -> Option<(f64, Vec3, Vec3, Vec3)> {
     match &pa.kind {
         PartKind::Ball { radius } => {
             let c = (pose_a * to_point(&Vec3::zeros())).coords;
@@ -121,15 +134,30 @@ fn against_parabola(pa: &Part, pose_a: &Isometry3<f64>, pose_b: &Isometry3<f64>,
 
 /// Contact of one part pair; `None` if farther apart than `max_distance`
 /// or if the pair is unsupported (two unbounded parts).
-fn part_contact(pa: &Part, pose_a: &Isometry3<f64>, pb: &Part, pose_b: &Isometry3<f64>, max_distance: f64) -> Option<Contact> {
+fn part_contact(
+    pa: &Part,
+    pose_a: &Isometry3<f64>,
+    pb: &Part,
+    pose_b: &Isometry3<f64>,
+    max_distance: f64,
+) -> Option<Contact> {
     let wa = pose_a * pa.offset;
     let wb = pose_b * pb.offset;
     match (&pa.kind, &pb.kind) {
         (_, PartKind::Parabola { curvature, .. }) => {
             let (d, n, p_a, p_b) = against_parabola(pa, &wa, &wb, *curvature)?;
-            (d <= max_distance).then_some(Contact { distance: d, normal: n, point_a: p_a, point_b: p_b, part_a: 0, part_b: 0 })
+            (d <= max_distance).then_some(Contact {
+                distance: d,
+                normal: n,
+                point_a: p_a,
+                point_b: p_b,
+                part_a: 0,
+                part_b: 0,
+            })
         }
-        (PartKind::Parabola { .. }, _) => part_contact(pb, pose_b, pa, pose_a, max_distance).map(Contact::flipped),
+        (PartKind::Parabola { .. }, _) => {
+            part_contact(pb, pose_b, pa, pose_a, max_distance).map(Contact::flipped)
+        }
         (PartKind::HalfSpace { .. }, PartKind::HalfSpace { .. }) => None,
         // parry returns a wrong distance and witness points when a half-space
         // is the *second* shape (seen in 0.25 through 0.31): always pass it first.
@@ -147,7 +175,9 @@ fn part_contact(pa: &Part, pose_a: &Isometry3<f64>, pb: &Part, pose_b: &Isometry
                 part_b: 0,
             })
         }
-        (PartKind::HalfSpace { .. }, _) => part_contact(pb, pose_b, pa, pose_a, max_distance).map(Contact::flipped),
+        (PartKind::HalfSpace { .. }, _) => {
+            part_contact(pb, pose_b, pa, pose_a, max_distance).map(Contact::flipped)
+        }
         _ => {
             let sa = pa.shape.as_ref()?;
             let sb = pb.shape.as_ref()?;
@@ -167,15 +197,105 @@ fn part_contact(pa: &Part, pose_a: &Isometry3<f64>, pb: &Part, pose_b: &Isometry
 /// Every part pair's contact closer than `max_distance` (m), each with its
 /// part indices: for a static convex obstacle part, the plane through
 /// `point_b` with normal `normal` separates it from that part of `a`.
-pub fn part_contacts(a: &Geometry, pose_a: &Isometry3<f64>, b: &Geometry, pose_b: &Isometry3<f64>, max_distance: f64) -> Vec<Contact> {
+pub fn part_contacts(
+    a: &Geometry,
+    pose_a: &Isometry3<f64>,
+    b: &Geometry,
+    pose_b: &Isometry3<f64>,
+    max_distance: f64,
+) -> Vec<Contact> {
     let mut out = Vec::new();
     for (ia, pa) in a.parts.iter().enumerate() {
         for (ib, pb) in b.parts.iter().enumerate() {
-            if let Some(mut c) = part_contact(pa, pose_a, pb, pose_b, max_distance) {
-                if c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite()) {
-                    c.part_a = ia;
-                    c.part_b = ib;
-                    out.push(c);
+            if let Some(mut c) = part_contact(pa, pose_a, pb, pose_b, max_distance)
+                && c.distance.is_finite()
+                && c.normal.iter().all(|v| v.is_finite())
+            {
+                c.part_a = ia;
+                c.part_b = ib;
+                out.push(c);
+            }
+        }
+    }
+    out
+}
+
+/// A point of one geometry close to another (see [`near_points`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NearPoint {
+    /// The point on `a` (a hull vertex, or a ball's closest point), world.
+    pub point: Vec3,
+    /// Unit normal of `b`'s surface there, pointing from `b` towards `a`.
+    pub normal: Vec3,
+    /// Signed distance of the point from `b`, m (`< 0` inside).
+    pub distance: f64,
+}
+
+/// Every hull vertex of `a` (and the closest point of each of `a`'s balls)
+/// within `band` (m) of the surface of `b`: the points on which `a` can
+/// lean on `b`. A body resting on a face yields all the face's vertices,
+/// which is what a support polygon needs (a single closest-point query
+/// gives only one of them).
+pub fn near_points(
+    a: &Geometry,
+    pose_a: &Isometry3<f64>,
+    b: &Geometry,
+    pose_b: &Isometry3<f64>,
+    band: f64,
+) -> Vec<NearPoint> {
+    let mut out = Vec::new();
+    for pa in &a.parts {
+        let wa = pose_a * pa.offset;
+        // Candidate points of a with the radius to subtract.
+        let points: Vec<(Vec3, f64)> = match &pa.kind {
+            PartKind::Ball { radius } => vec![(wa.translation.vector, *radius)],
+            PartKind::Convex { vertices, .. } => vertices
+                .iter()
+                .map(|v| ((wa * to_point(v)).coords, 0.0))
+                .collect(),
+            _ => continue,
+        };
+        for pb in &b.parts {
+            let wb = pose_b * pb.offset;
+            for &(p, radius) in &points {
+                let found = match &pb.kind {
+                    PartKind::HalfSpace { normal } => {
+                        let n = wb.rotation * normal;
+                        Some((n.dot(&(p - wb.translation.vector)), n))
+                    }
+                    PartKind::Parabola { curvature, .. } => {
+                        let (d, n, _) = parabola_point(&wb, *curvature, &p);
+                        Some((d, n))
+                    }
+                    _ => pb.shape.as_ref().and_then(|shape| {
+                        let proj = shape.project_point(&wb, &to_point(&p), false);
+                        let d = p - proj.point.coords;
+                        let len = d.norm();
+                        let sign = if proj.is_inside { -1.0 } else { 1.0 };
+                        if len > 1e-12 {
+                            Some((sign * len, d / len * sign))
+                        } else {
+                            // On the surface: take the normal of the part pair's contact.
+                            let probe = Part {
+                                kind: PartKind::Ball { radius: 1e-9 },
+                                offset: Isometry3::identity(),
+                                shape: Some(parry3d_f64::shape::SharedShape::ball(1e-9)),
+                            };
+                            let at = Isometry3::translation(p.x, p.y, p.z);
+                            part_contact(&probe, &at, pb, pose_b, f64::INFINITY)
+                                .map(|c| (0.0, c.normal))
+                        }
+                    }),
+                };
+                if let Some((d, n)) = found {
+                    let d = d - radius;
+                    if d <= band && d.is_finite() && n.iter().all(|v| v.is_finite()) {
+                        out.push(NearPoint {
+                            point: p - n * radius,
+                            normal: n,
+                            distance: d,
+                        });
+                    }
                 }
             }
         }
@@ -186,7 +306,13 @@ pub fn part_contacts(a: &Geometry, pose_a: &Isometry3<f64>, b: &Geometry, pose_b
 /// The closest contact between two geometries placed at `pose_a` and
 /// `pose_b`, or `None` when every part pair is farther apart than
 /// `max_distance` (m). Compounds are searched part by part.
-pub fn contact(a: &Geometry, pose_a: &Isometry3<f64>, b: &Geometry, pose_b: &Isometry3<f64>, max_distance: f64) -> Option<Contact> {
+pub fn contact(
+    a: &Geometry,
+    pose_a: &Isometry3<f64>,
+    b: &Geometry,
+    pose_b: &Isometry3<f64>,
+    max_distance: f64,
+) -> Option<Contact> {
     let mut best: Option<Contact> = None;
     for (ia, pa) in a.parts.iter().enumerate() {
         for (ib, pb) in b.parts.iter().enumerate() {
@@ -220,13 +346,30 @@ mod tests {
     fn regression_halfspace_second_reports_wrong_distance() {
         let ball = Geometry::sphere(1.0).unwrap();
         let ground = Geometry::half_space(Vec3::z()).unwrap();
-        let c = contact(&ball, &at(0.0, 0.0, 2.5), &ground, &Isometry3::identity(), 10.0).unwrap();
+        let c = contact(
+            &ball,
+            &at(0.0, 0.0, 2.5),
+            &ground,
+            &Isometry3::identity(),
+            10.0,
+        )
+        .unwrap();
         assert!((c.distance - 1.5).abs() < 1e-12, "distance {}", c.distance);
-        assert!((c.normal - Vec3::z()).norm() < 1e-12, "normal points from ground to ball");
+        assert!(
+            (c.normal - Vec3::z()).norm() < 1e-12,
+            "normal points from ground to ball"
+        );
         assert!((c.point_a - Vec3::new(0.0, 0.0, 1.5)).norm() < 1e-12);
         assert!(c.point_b.z.abs() < 1e-12);
         // And the reverse order gives the flipped result.
-        let r = contact(&ground, &Isometry3::identity(), &ball, &at(0.0, 0.0, 2.5), 10.0).unwrap();
+        let r = contact(
+            &ground,
+            &Isometry3::identity(),
+            &ball,
+            &at(0.0, 0.0, 2.5),
+            10.0,
+        )
+        .unwrap();
         assert!((r.distance - 1.5).abs() < 1e-12);
         assert!((r.normal + Vec3::z()).norm() < 1e-12);
     }

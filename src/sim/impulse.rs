@@ -48,6 +48,11 @@ pub struct ImpulseCtx {
     pub friction: f64,
     /// Friction mode (decided by [`ImpulseCtx::apply`]): sticking or sliding.
     pub stick: bool,
+    /// A micro-collision (see `sim::rest`): when set to `v` (m/s), the
+    /// contact leaves at `max(−v_n, v)` — elastically, or at `v` when it
+    /// approached slower — instead of at `−e v_n`. Restitution then has no
+    /// effect, and the dual-number Jacobian differentiates this map.
+    pub min_separation: Option<f64>,
 }
 
 /// The applied impulse.
@@ -129,13 +134,23 @@ fn moving<T: RealField>(p: &PartyCtx, z: &[T], at: usize, pm: usize) -> Moving<T
     let q = cm::<T>(&p.axes);
     let rq = &r * q;
     let inv_inertia = &rq * diag * rq.transpose();
-    Moving { pose: PoseT { x, r }, v, w, inv_mass, inv_inertia }
+    Moving {
+        pose: PoseT { x, r },
+        v,
+        w,
+        inv_mass,
+        inv_inertia,
+    }
 }
 
 impl ImpulseCtx {
     /// Number of inputs of the model.
     pub fn inputs(&self) -> usize {
-        if self.b.is_some() { INPUTS_BODIES } else { INPUTS_OBSTACLE }
+        if self.b.is_some() {
+            INPUTS_BODIES
+        } else {
+            INPUTS_OBSTACLE
+        }
     }
 
     /// The input vector at the current state: zero tangents and the actual parameters.
@@ -169,7 +184,10 @@ impl ImpulseCtx {
         let b = self.b.as_ref().map(|b| moving(b, z, 12, p0 + 7));
         let pose_b = match &b {
             Some(m) => m.pose.clone(),
-            None => PoseT { x: cv::<T>(&self.b_pose.translation.vector), r: cm::<T>(self.b_pose.rotation.to_rotation_matrix().matrix()) },
+            None => PoseT {
+                x: cv::<T>(&self.b_pose.translation.vector),
+                r: cm::<T>(self.b_pose.rotation.to_rotation_matrix().matrix()),
+            },
         };
         let geo = self.feature.evaluate(&a.pose, &pose_b);
         let mut n = geo.normal.clone();
@@ -195,11 +213,17 @@ impl ImpulseCtx {
             let srb = skew(&rb);
             k += Matrix3::identity() * m.inv_mass.clone() - &srb * &m.inv_inertia * &srb;
         }
-        let one = T::one();
+        // Normal speed the contact separates at: `−e v_n`, or the floor of
+        // a micro-collision.
+        let sep: T = match self.min_separation {
+            Some(v) if -vn.clone() >= c::<T>(v) => -vn.clone(),
+            Some(v) => c(v),
+            None => -(e * vn.clone()),
+        };
         let mut stick = false;
         let p = if self.friction > 0.0 {
             let mu: T = c(self.friction);
-            let target = &n * (-(e.clone() * vn.clone()));
+            let target = &n * sep.clone();
             let k_inv = k.clone().try_inverse().unwrap_or_else(Matrix3::zeros);
             let p_stick = k_inv * (target - &v_rel);
             let pn = n.dot(&p_stick);
@@ -214,11 +238,11 @@ impl ImpulseCtx {
                 p_stick
             } else {
                 let dir = &n - (vt / vt_norm) * mu;
-                let pn = -((one + e) * vn.clone()) / n.dot(&(&k * &dir));
+                let pn = (sep - vn.clone()) / n.dot(&(&k * &dir));
                 dir * pn
             }
         } else {
-            let j = -((one + e) * vn.clone()) / n.dot(&(&k * &n));
+            let j = (sep - vn.clone()) / n.dot(&(&k * &n));
             &n * j
         };
         let mut out = Vec::with_capacity(OUTPUTS);
@@ -245,7 +269,10 @@ impl ImpulseCtx {
         let (out, stick) = self.model::<f64>(&z, None);
         self.stick = stick;
         // Re-derive the quantities the report needs with the same model.
-        let a_pose = PoseT::from_isometry(&Isometry3::from_parts(self.a.state.x.into(), self.a.state.q));
+        let a_pose = PoseT::from_isometry(&Isometry3::from_parts(
+            self.a.state.x.into(),
+            self.a.state.q,
+        ));
         let b_pose = match &self.b {
             Some(b) => PoseT::from_isometry(&Isometry3::from_parts(b.state.x.into(), b.state.q)),
             None => PoseT::from_isometry(&self.b_pose),
@@ -262,13 +289,18 @@ impl ImpulseCtx {
             Some(b) => (b.state.v, b.state.w, geo.point_b - b.state.x),
             None => (Vec3::zeros(), Vec3::zeros(), Vec3::zeros()),
         };
-        let rel = |va: Vec3, wa: Vec3, vb: Vec3, wb: Vec3| (va + wa.cross(&ra)) - (vb + wb.cross(&rb));
+        let rel =
+            |va: Vec3, wa: Vec3, vb: Vec3, wb: Vec3| (va + wa.cross(&ra)) - (vb + wb.cross(&rb));
         let va = Vec3::new(out[1], out[2], out[3]);
         let wa = Vec3::new(out[4], out[5], out[6]);
         let vb2 = Vec3::new(out[7], out[8], out[9]);
         let wb2 = Vec3::new(out[10], out[11], out[12]);
         let approach = n.dot(&rel(self.a.state.v, self.a.state.w, vb, wb));
-        let (vb_post, wb_post) = if self.b.is_some() { (vb2, wb2) } else { (Vec3::zeros(), Vec3::zeros()) };
+        let (vb_post, wb_post) = if self.b.is_some() {
+            (vb2, wb2)
+        } else {
+            (Vec3::zeros(), Vec3::zeros())
+        };
         let separation = n.dot(&rel(va, wa, vb_post, wb_post));
         ImpulseResult {
             distance: out[0],

@@ -5,6 +5,7 @@ use super::dynamics::BodyDynamics;
 use super::events::{Pair, Tolerances, World};
 use super::impulse::{ImpulseCtx, PartyCtx};
 use super::integrator::{self, Step};
+use super::rest::{self, Mode, Slide};
 use super::state::{BodyState, StateSide};
 use super::trajectory::{Counters, Event, Party, Segment, TangentError, Track, Trajectory};
 use crate::controls::Controls;
@@ -28,7 +29,12 @@ pub struct SimOptions {
 
 impl Default for SimOptions {
     fn default() -> Self {
-        SimOptions { tangent: true, graze_tol: 1e-3, max_events: 100_000, window: 0.05 }
+        SimOptions {
+            tangent: true,
+            graze_tol: 1e-3,
+            max_events: 100_000,
+            window: 0.05,
+        }
     }
 }
 
@@ -36,19 +42,42 @@ impl Default for SimOptions {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimError {
     /// A body's state stopped being finite.
-    #[error("body \"{body}\" left the finite numbers at t = {t:.6} s; check its mass, inertia and speeds for extreme values")]
+    #[error(
+        "body \"{body}\" left the finite numbers at t = {t:.6} s; check its mass, inertia and speeds for extreme values"
+    )]
     NonFinite { body: String, t: f64 },
     /// More events than the limit.
-    #[error("more than {limit} collision events by t = {t:.6} s; shorten the duration or raise rest_speed")]
+    #[error(
+        "more than {limit} collision events by t = {t:.6} s; shorten the duration or raise rest_speed"
+    )]
     TooManyEvents { limit: usize, t: f64 },
     /// Two parties stayed in contact, colliding ever faster (resting contact
     /// between bodies is outside the impact model).
-    #[error("\"{a}\" and \"{b}\" stay in contact from t = {t:.6} s ({count} impacts in {span:.1e} s): nudge models impacts, not sustained contact; raise restitution or separate them")]
-    SustainedContact { a: String, b: String, t: f64, count: usize, span: f64 },
+    #[error(
+        "\"{a}\" and \"{b}\" stay in contact from t = {t:.6} s ({count} impacts in {span:.1e} s): nudge models impacts, not sustained contact; raise restitution or separate them"
+    )]
+    SustainedContact {
+        a: String,
+        b: String,
+        t: f64,
+        count: usize,
+        span: f64,
+    },
+    /// The event search between two parties made no progress (a contact
+    /// that neither separates nor approaches faster than the root
+    /// tolerance can resolve). Nothing tunnels silently: the run stops.
+    #[error(
+        "the collision search between \"{a}\" and \"{b}\" stalled at t = {t:.6} s (a contact that neither separates nor approaches); raise rest_speed so micro-collisions can resolve it, or loosen root_tol"
+    )]
+    EventSearchStalled { a: String, b: String, t: f64 },
     /// The adaptive integrator could not meet the tolerance.
     #[error("the adaptive step fell below 1e-12 s at t = {t:.6} s; loosen the tolerance")]
     StepTooSmall { t: f64 },
 }
+
+/// The saltation result: post-impulse Jacobian rows of the parties,
+/// `dt_c/du`, and the grazing ratio.
+type Saltation = (DMatrix<f64>, DVector<f64>, f64);
 
 /// Where an integrated body's next step starts.
 #[derive(Debug, Clone)]
@@ -93,28 +122,64 @@ struct Sim<'a> {
 /// Simulate the scene for its current control values. With
 /// `opts.tangent`, Jacobians with respect to the free controls of
 /// `controls` are propagated alongside.
-pub fn simulate(scene: &Scene, controls: &Controls, opts: &SimOptions) -> Result<Trajectory, SimError> {
+pub fn simulate(
+    scene: &Scene,
+    controls: &Controls,
+    opts: &SimOptions,
+) -> Result<Trajectory, SimError> {
     let m = if opts.tangent { controls.m() } else { 0 };
-    let dynamics: Vec<BodyDynamics> = (0..scene.bodies.len()).map(|i| BodyDynamics::new(scene, i, controls)).collect();
+    let dynamics: Vec<BodyDynamics> = (0..scene.bodies.len())
+        .map(|i| BodyDynamics::new(scene, i, controls))
+        .collect();
     let mut tracks = Vec::new();
     let mut cursors = Vec::new();
     for (i, b) in scene.bodies.iter().enumerate() {
         let q = exp_so3(&b.orientation);
-        let start = BodyState { x: b.position, q, v: b.velocity, w: b.angular_velocity };
+        let start = BodyState {
+            x: b.position,
+            q,
+            v: b.velocity,
+            w: b.angular_velocity,
+        };
         if !start.is_finite() {
-            return Err(SimError::NonFinite { body: b.name.clone(), t: 0.0 });
+            return Err(SimError::NonFinite {
+                body: b.name.clone(),
+                t: 0.0,
+            });
         }
         let j0 = initial_jacobian(scene, controls, i, m);
-        tracks.push(Track { segments: vec![Segment { t0: 0.0, start, j0, rest: false, steps: Vec::new() }] });
-        cursors.push(dynamics[i].integrate.then(|| Cursor { q, z: integrator::initial(&(q.inverse() * b.angular_velocity), opts.tangent) }));
+        tracks.push(Track {
+            segments: vec![Segment {
+                slide: None,
+                t0: 0.0,
+                start,
+                j0,
+                rest: false,
+                steps: Vec::new(),
+            }],
+        });
+        cursors.push(dynamics[i].integrate.then(|| Cursor {
+            q,
+            z: integrator::initial(&(q.inverse() * b.angular_velocity), opts.tangent),
+        }));
     }
-    let col = |i: usize, b: Block| if opts.tangent { controls.body_column(i, b) } else { None };
+    let col = |i: usize, b: Block| {
+        if opts.tangent {
+            controls.body_column(i, b)
+        } else {
+            None
+        }
+    };
     let traj = Trajectory {
         duration: scene.duration,
         gravity: scene.effective_gravity(),
         gravity_listed: scene.effects.gravity,
-        mass_cols: (0..scene.bodies.len()).map(|i| col(i, Block::Mass)).collect(),
-        inertia_cols: (0..scene.bodies.len()).map(|i| col(i, Block::Inertia)).collect(),
+        mass_cols: (0..scene.bodies.len())
+            .map(|i| col(i, Block::Mass))
+            .collect(),
+        inertia_cols: (0..scene.bodies.len())
+            .map(|i| col(i, Block::Inertia))
+            .collect(),
         dynamics,
         tracks,
         events: Vec::new(),
@@ -128,11 +193,21 @@ pub fn simulate(scene: &Scene, controls: &Controls, opts: &SimOptions) -> Result
     if scene.effects.collisions {
         for a in 0..scene.bodies.len() {
             for o in 0..scene.obstacles.len() {
-                pairs.push(Pair { a, b: Party::Obstacle(o), armed: true, hold: 0.0 });
+                pairs.push(Pair {
+                    a,
+                    b: Party::Obstacle(o),
+                    armed: true,
+                    hold: 0.0,
+                });
             }
         }
         for p in &scene.pairs {
-            pairs.push(Pair { a: p[0], b: Party::Body(p[1]), armed: true, hold: 0.0 });
+            pairs.push(Pair {
+                a: p[0],
+                b: Party::Body(p[1]),
+                armed: true,
+                hold: 0.0,
+            });
         }
     }
     let obstacle_boxes = scene
@@ -140,9 +215,19 @@ pub fn simulate(scene: &Scene, controls: &Controls, opts: &SimOptions) -> Result
         .iter()
         .map(|o| {
             if o.geometry.reach().is_finite() {
-                let pts: Vec<Vec3> = o.geometry.outline(1.0).iter().flat_map(|(a, b)| [*a, *b]).map(|p| (o.pose * nalgebra::Point3::from(p)).coords).collect();
-                let lo = pts.iter().fold(Vec3::repeat(f64::INFINITY), |a, p| a.inf(p));
-                let hi = pts.iter().fold(Vec3::repeat(f64::NEG_INFINITY), |a, p| a.sup(p));
+                let pts: Vec<Vec3> = o
+                    .geometry
+                    .outline(1.0)
+                    .iter()
+                    .flat_map(|(a, b)| [*a, *b])
+                    .map(|p| (o.pose * nalgebra::Point3::from(p)).coords)
+                    .collect();
+                let lo = pts
+                    .iter()
+                    .fold(Vec3::repeat(f64::INFINITY), |a, p| a.inf(p));
+                let hi = pts
+                    .iter()
+                    .fold(Vec3::repeat(f64::NEG_INFINITY), |a, p| a.sup(p));
                 Some((lo, hi))
             } else {
                 None
@@ -159,7 +244,10 @@ pub fn simulate(scene: &Scene, controls: &Controls, opts: &SimOptions) -> Result
         allowed: scene.pairs.iter().map(|p| (p[0], p[1])).collect(),
         pairs,
         obstacle_boxes,
-        tol: Tolerances { root, arm: (10.0 * root).max(1e-9) },
+        tol: Tolerances {
+            root,
+            arm: (10.0 * root).max(1e-9),
+        },
     };
     sim.run()?;
     Ok(sim.traj)
@@ -189,26 +277,40 @@ impl Sim<'_> {
                 frontier += taken.0;
                 h = taken.1;
             }
-            let end = if self.cursors.iter().any(Option::is_some) { end.min(frontier) } else { end };
-            match self.next_impact(t, end) {
+            let end = if self.cursors.iter().any(Option::is_some) {
+                end.min(frontier)
+            } else {
+                end
+            };
+            match self.next_impact(t, end)? {
                 None => t = end,
                 Some((tc, pair, contact)) => {
                     if std::env::var("NUDGE_DEBUG").is_ok() {
-                        eprintln!("impact t={tc} pair={pair} d={} events={}", contact.distance, self.traj.events.len());
+                        eprintln!(
+                            "impact t={tc} pair={pair} d={} events={}",
+                            contact.distance,
+                            self.traj.events.len()
+                        );
                     }
                     self.truncate(tc);
                     frontier = tc;
                     self.impact(tc, pair, &contact)?;
                     t = tc;
                     if self.traj.events.len() > self.opts.max_events {
-                        return Err(SimError::TooManyEvents { limit: self.opts.max_events, t });
+                        return Err(SimError::TooManyEvents {
+                            limit: self.opts.max_events,
+                            t,
+                        });
                     }
                 }
             }
         }
         for (i, b) in self.scene.bodies.iter().enumerate() {
             if !self.traj.state(i, duration, StateSide::After).is_finite() {
-                return Err(SimError::NonFinite { body: b.name.clone(), t: duration });
+                return Err(SimError::NonFinite {
+                    body: b.name.clone(),
+                    t: duration,
+                });
             }
         }
         Ok(())
@@ -217,7 +319,9 @@ impl Sim<'_> {
     /// Advance every integrated body by one shared step from `t`. Returns the
     /// step taken and the proposal for the next one.
     fn integrate(&mut self, t: f64, h: f64) -> Result<(f64, f64), SimError> {
-        let active: Vec<usize> = (0..self.cursors.len()).filter(|&i| self.cursors[i].is_some()).collect();
+        let active: Vec<usize> = (0..self.cursors.len())
+            .filter(|&i| self.cursors[i].is_some())
+            .collect();
         let mut evals = 0u64;
         let result = match self.scene.accuracy.method {
             Method::Rk4 { .. } => {
@@ -225,7 +329,10 @@ impl Sim<'_> {
                 for &i in &active {
                     let c = self.cursors[i].as_ref().map(|c| (c.q, c.z.clone()));
                     if let Some((q, z)) = c {
-                        steps.push((i, integrator::step_rk4(&self.traj.dynamics[i], t, q, z, h, &mut evals)));
+                        steps.push((
+                            i,
+                            integrator::step_rk4(&self.traj.dynamics[i], t, q, z, h, &mut evals),
+                        ));
                     }
                 }
                 self.push_steps(steps, t + h)?;
@@ -238,18 +345,30 @@ impl Sim<'_> {
                     let mut err: f64 = 0.0;
                     for &i in &active {
                         if let Some(c) = &self.cursors[i] {
-                            let (s, e) = integrator::step_dopri(&self.traj.dynamics[i], t, c.q, c.z.clone(), hh, tol, &mut evals);
+                            let (s, e) = integrator::step_dopri(
+                                &self.traj.dynamics[i],
+                                t,
+                                c.q,
+                                c.z.clone(),
+                                hh,
+                                tol,
+                                &mut evals,
+                            );
                             err = err.max(if e.is_finite() { e } else { f64::INFINITY });
                             steps.push((i, s));
                         }
                     }
                     if err <= 1.0 {
-                        let grow = if err > 0.0 { (0.9 * err.powf(-0.2)).min(5.0) } else { 5.0 };
+                        let grow = if err > 0.0 {
+                            (0.9 * err.powf(-0.2)).min(5.0)
+                        } else {
+                            5.0
+                        };
                         self.push_steps(steps, t + hh)?;
                         break (hh, (hh * grow).min(max_step));
                     }
                     hh *= (0.9 * err.powf(-0.2)).clamp(0.1, 0.9);
-                    if !(hh >= 1e-12) {
+                    if hh.is_nan() || hh < 1e-12 {
                         return Err(SimError::StepTooSmall { t });
                     }
                 }
@@ -262,10 +381,16 @@ impl Sim<'_> {
     fn push_steps(&mut self, steps: Vec<(usize, Step)>, t1: f64) -> Result<(), SimError> {
         for (i, s) in steps {
             if !s.z1.iter().take(6).all(|v| v.is_finite()) {
-                return Err(SimError::NonFinite { body: self.scene.bodies[i].name.clone(), t: t1 });
+                return Err(SimError::NonFinite {
+                    body: self.scene.bodies[i].name.clone(),
+                    t: t1,
+                });
             }
             let q = integrator::advance(&s.q0, &s.z1);
-            self.cursors[i] = Some(Cursor { q, z: reset_theta(s.z1.clone()) });
+            self.cursors[i] = Some(Cursor {
+                q,
+                z: reset_theta(s.z1.clone()),
+            });
             if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
                 seg.steps.push(s);
             }
@@ -280,7 +405,9 @@ impl Sim<'_> {
                 continue;
             }
             let d = &self.traj.dynamics[i];
-            let Some(seg) = self.traj.tracks[i].segments.last() else { continue };
+            let Some(seg) = self.traj.tracks[i].segments.last() else {
+                continue;
+            };
             let k = seg.steps.partition_point(|s| s.t0 <= tc);
             if k == 0 {
                 continue;
@@ -291,17 +418,28 @@ impl Sim<'_> {
             if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
                 seg.steps.retain(|s| s.t0 < tc);
             }
-            self.cursors[i] = Some(Cursor { q, z: reset_theta(z) });
+            self.cursors[i] = Some(Cursor {
+                q,
+                z: reset_theta(z),
+            });
         }
     }
 
     /// The earliest impact in `[t0, t1]`: broad phase, then conservative
     /// advancement per candidate pair.
-    fn next_impact(&mut self, t0: f64, t1: f64) -> Option<(f64, usize, crate::geometry::Contact)> {
+    #[allow(clippy::type_complexity)]
+    fn next_impact(
+        &mut self,
+        t0: f64,
+        t1: f64,
+    ) -> Result<Option<(f64, usize, crate::geometry::Contact)>, SimError> {
         if self.pairs.is_empty() || t1 <= t0 {
-            return None;
+            return Ok(None);
         }
-        let world = World { scene: self.scene, traj: &self.traj };
+        let world = World {
+            scene: self.scene,
+            traj: &self.traj,
+        };
         // Re-arm pairs that have separated by more than the arm distance.
         for p in self.pairs.iter_mut().filter(|p| !p.armed) {
             match world.contact(p, t0, self.tol.arm) {
@@ -311,7 +449,9 @@ impl Sim<'_> {
         }
         let n = self.scene.bodies.len();
         let boxes: Vec<(Vec3, Vec3)> = (0..n).map(|i| world.sweep_box(i, t0, t1)).collect();
-        let overlap = |a: &(Vec3, Vec3), b: &(Vec3, Vec3)| (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k]);
+        let overlap = |a: &(Vec3, Vec3), b: &(Vec3, Vec3)| {
+            (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k])
+        };
         // Sweep and prune on x for body–body pairs (not quadratic in N).
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
@@ -331,8 +471,10 @@ impl Sim<'_> {
         for (k, p) in self.pairs.iter().enumerate() {
             let candidate = match p.b {
                 Party::Obstacle(o) => {
-                    !self.traj.resting(p.a, t0, StateSide::After)
-                        && self.obstacle_boxes[o].as_ref().is_none_or(|b| overlap(&boxes[p.a], b))
+                    !self.traj.supported_by(p.a, t0, o)
+                        && self.obstacle_boxes[o]
+                            .as_ref()
+                            .is_none_or(|b| overlap(&boxes[p.a], b))
                 }
                 Party::Body(j) => close.contains(&(p.a, j)),
             };
@@ -340,23 +482,47 @@ impl Sim<'_> {
                 continue;
             }
             let limit = best.as_ref().map_or(t1, |b| b.0);
-            if let Some((tc, c)) = world.find_impact(p, t0, limit, &self.tol) {
-                if best.as_ref().is_none_or(|b| tc < b.0) {
-                    best = Some((tc, k, c));
+            let found = world.find_impact(p, t0, limit, &self.tol).map_err(|t| {
+                SimError::EventSearchStalled {
+                    a: self.scene.bodies[p.a].name.clone(),
+                    b: self.party_name(p.b),
+                    t,
                 }
+            })?;
+            if let Some((tc, c)) = found
+                && best.as_ref().is_none_or(|b| tc < b.0)
+            {
+                best = Some((tc, k, c));
             }
         }
-        best
+        Ok(best)
+    }
+
+    fn party_name(&self, p: Party) -> String {
+        match p {
+            Party::Body(i) => self.scene.bodies[i].name.clone(),
+            Party::Obstacle(i) => self.scene.obstacles[i].name.clone(),
+        }
     }
 
     fn party_ctx(&self, i: usize, s: &BodyState) -> PartyCtx {
         let d = &self.traj.dynamics[i];
-        PartyCtx { state: *s, mass: d.mass, principal: d.principal, axes: d.axes }
+        PartyCtx {
+            state: *s,
+            mass: d.mass,
+            principal: d.principal,
+            axes: d.axes,
+        }
     }
 
     /// Apply the impulse of pair `k` at `tc`, start new segments and update
     /// the Jacobians by the saltation formula.
-    fn impact(&mut self, tc: f64, k: usize, contact: &crate::geometry::Contact) -> Result<(), SimError> {
+    fn impact(
+        &mut self,
+        tc: f64,
+        k: usize,
+        contact: &crate::geometry::Contact,
+    ) -> Result<(), SimError> {
         let pair = self.pairs[k];
         self.pairs[k].armed = false;
         let scene = self.scene;
@@ -368,22 +534,40 @@ impl Sim<'_> {
         };
         let iso = |s: &BodyState| Isometry3::from_parts(Translation3::from(s.x), s.q);
         let (gb, pose_b, e_b, mu_b) = match pair.b {
-            Party::Body(j) => (&scene.bodies[j].geometry, sb.as_ref().map(iso).unwrap_or_default(), scene.bodies[j].restitution, scene.bodies[j].friction),
-            Party::Obstacle(o) => (&scene.obstacles[o].geometry, scene.obstacles[o].pose, scene.obstacles[o].restitution, scene.obstacles[o].friction),
+            Party::Body(j) => (
+                &scene.bodies[j].geometry,
+                sb.as_ref().map(iso).unwrap_or_default(),
+                scene.bodies[j].restitution,
+                scene.bodies[j].friction,
+            ),
+            Party::Obstacle(o) => (
+                &scene.obstacles[o].geometry,
+                scene.obstacles[o].pose,
+                scene.obstacles[o].restitution,
+                scene.obstacles[o].friction,
+            ),
         };
         let body_a = &scene.bodies[a];
         let feature = FeaturePair::classify(&body_a.geometry, &iso(&sa), gb, &pose_b, contact);
         let index = self.traj.events.len();
         let control = scene.event_control(index);
-        let restitution = control.and_then(|c| c.restitution).unwrap_or(body_a.restitution * e_b);
+        let restitution = control
+            .and_then(|c| c.restitution)
+            .unwrap_or(body_a.restitution * e_b);
         let n = contact.normal;
         let axis = {
-            let k = (0..3).min_by(|&x, &y| n[x].abs().total_cmp(&n[y].abs())).unwrap_or(0);
+            let k = (0..3)
+                .min_by(|&x, &y| n[x].abs().total_cmp(&n[y].abs()))
+                .unwrap_or(0);
             let mut e = Vec3::zeros();
             e[k] = 1.0;
             e
         };
-        let friction = if scene.effects.friction { (body_a.friction * mu_b).sqrt() } else { 0.0 };
+        let friction = if scene.effects.friction {
+            (body_a.friction * mu_b).sqrt()
+        } else {
+            0.0
+        };
         let mut ctx = ImpulseCtx {
             feature: feature.clone(),
             a: self.party_ctx(a, &sa),
@@ -397,8 +581,9 @@ impl Sim<'_> {
             tangent_axis: axis,
             friction,
             stick: false,
+            min_separation: None,
         };
-        let res = ctx.apply();
+        let mut res = ctx.apply();
         if friction > 0.0 {
             Counters::bump(&self.traj.counters.friction, 1);
         }
@@ -411,23 +596,93 @@ impl Sim<'_> {
         }
         self.pairs[k].hold = tc;
         self.check_sustained(k, tc)?;
-        let rest = matches!(pair.b, Party::Obstacle(_)) && res.separation < scene.rest_speed;
-        let mut post_a = BodyState { v: res.va, w: res.wa, ..sa };
-        if rest {
-            post_a.v = Vec3::zeros();
-            post_a.w = Vec3::zeros();
+        // How the bounce ends (rest, slide, or on bouncing; see `sim::rest`).
+        let mode = match pair.b {
+            Party::Obstacle(o) => {
+                let post = BodyState {
+                    v: res.va,
+                    w: res.wa,
+                    ..sa
+                };
+                let (v_rest, band) = rest::thresholds(
+                    scene,
+                    &self.traj.dynamics[a],
+                    &self.traj.gravity,
+                    self.tol.arm,
+                );
+                rest::decide(&rest::Impact {
+                    scene,
+                    dynamics: &self.traj.dynamics[a],
+                    gravity: self.traj.gravity,
+                    body: a,
+                    obstacle: o,
+                    post,
+                    band,
+                    v_rest,
+                })
+            }
+            Party::Body(_) => Mode::Bounce,
+        };
+        let rest = mode == Mode::Rest;
+        let mut micro = false;
+        let v_min = rest::thresholds(
+            scene,
+            &self.traj.dynamics[a],
+            &self.traj.gravity,
+            self.tol.arm,
+        )
+        .0;
+        if mode == Mode::Bounce && matches!(pair.b, Party::Obstacle(_)) && res.separation < v_min {
+            // A micro-collision: elastic, or at least `v_min` (bounded
+            // chatter instead of a Zeno series; see `sim::rest`).
+            ctx.min_separation = Some(v_min);
+            res = ctx.apply();
+            micro = true;
         }
-        let post_b = sb.map(|s| BodyState { v: res.vb, w: res.wb, ..s });
+        let mut post_a = BodyState {
+            v: res.va,
+            w: res.wa,
+            ..sa
+        };
+        let mut slide: Option<Slide> = None;
+        match &mode {
+            Mode::Rest => {
+                post_a.v = Vec3::zeros();
+                post_a.w = Vec3::zeros();
+            }
+            Mode::Slide {
+                slide: sl,
+                proj_v,
+                proj_w,
+            } => {
+                post_a.v = proj_v * post_a.v;
+                post_a.w = proj_w * post_a.w;
+                slide = Some(*sl);
+            }
+            Mode::Bounce => {}
+        }
+        let post_b = sb.map(|s| BodyState {
+            v: res.vb,
+            w: res.wb,
+            ..s
+        });
         for (i, s) in [(Some(a), Some(post_a)), (pair.b_body(), post_b)] {
-            if let (Some(i), Some(s)) = (i, s) {
-                if !s.is_finite() {
-                    return Err(SimError::NonFinite { body: scene.bodies[i].name.clone(), t: tc });
-                }
+            if let (Some(i), Some(s)) = (i, s)
+                && !s.is_finite()
+            {
+                return Err(SimError::NonFinite {
+                    body: scene.bodies[i].name.clone(),
+                    t: tc,
+                });
             }
         }
         let g_n = -self.traj.gravity.dot(&n);
-        let rest_time = rest.then(|| {
-            if restitution < 1.0 && g_n > 0.0 { tc + 2.0 * res.separation.max(0.0) / (g_n * (1.0 - restitution)) } else { tc }
+        let rest_time = (rest || slide.is_some()).then(|| {
+            if restitution < 1.0 && g_n > 0.0 {
+                tc + 2.0 * res.separation.max(0.0) / (g_n * (1.0 - restitution))
+            } else {
+                tc
+            }
         });
         // Tangents through the impulse.
         let m = self.traj.m;
@@ -437,7 +692,17 @@ impl Sim<'_> {
         let mut graze_ratio = f64::NAN;
         let mut grazing = false;
         if self.traj.tangent && self.traj.tangent_error.is_none() {
-            match self.saltation(tc, index, pair, &sa, sb.as_ref(), &post_a, post_b.as_ref(), rest, &ctx) {
+            match self.saltation(
+                tc,
+                index,
+                pair,
+                &sa,
+                sb.as_ref(),
+                &post_a,
+                post_b.as_ref(),
+                &mode,
+                &ctx,
+            ) {
                 Ok((jpost, dt, ratio)) => {
                     graze_ratio = ratio;
                     ja.copy_from(&jpost.rows(0, 12));
@@ -468,11 +733,17 @@ impl Sim<'_> {
             normal: res.normal,
             point: res.point,
             approach: res.approach,
-            separation: if rest { 0.0 } else { res.separation },
+            separation: if rest || slide.is_some() {
+                0.0
+            } else {
+                res.separation
+            },
             restitution,
             graze_ratio,
             grazing,
             rest,
+            slide,
+            micro,
             rest_time,
             stick: (friction > 0.0).then_some(ctx.stick),
             dt_du,
@@ -480,9 +751,9 @@ impl Sim<'_> {
             post: [post_a, post_b.unwrap_or(post_a)],
         };
         self.traj.events.push(event);
-        self.start_segment(a, tc, post_a, ja, rest);
+        self.start_segment(a, tc, post_a, ja, rest, slide);
         if let (Some(j), Some(s)) = (pair.b_body(), post_b) {
-            self.start_segment(j, tc, s, jb, false);
+            self.start_segment(j, tc, s, jb, false, None);
         }
         Ok(())
     }
@@ -491,7 +762,15 @@ impl Sim<'_> {
     fn check_sustained(&self, k: usize, tc: f64) -> Result<(), SimError> {
         const COUNT: usize = 200;
         let pair = self.pairs[k];
-        let recent: Vec<f64> = self.traj.events.iter().rev().filter(|e| e.a == pair.a && e.b == pair.b).take(COUNT).map(|e| e.t).collect();
+        let recent: Vec<f64> = self
+            .traj
+            .events
+            .iter()
+            .rev()
+            .filter(|e| e.a == pair.a && e.b == pair.b)
+            .take(COUNT)
+            .map(|e| e.t)
+            .collect();
         if recent.len() == COUNT {
             let span = tc - recent[COUNT - 1];
             if span < 1e-3 * self.scene.duration.max(1e-3) {
@@ -499,16 +778,41 @@ impl Sim<'_> {
                     Party::Body(i) => self.scene.bodies[i].name.clone(),
                     Party::Obstacle(i) => self.scene.obstacles[i].name.clone(),
                 };
-                return Err(SimError::SustainedContact { a: name(Party::Body(pair.a)), b: name(pair.b), t: recent[COUNT - 1], count: COUNT, span });
+                return Err(SimError::SustainedContact {
+                    a: name(Party::Body(pair.a)),
+                    b: name(pair.b),
+                    t: recent[COUNT - 1],
+                    count: COUNT,
+                    span,
+                });
             }
         }
         Ok(())
     }
 
-    fn start_segment(&mut self, i: usize, t0: f64, start: BodyState, j0: DMatrix<f64>, rest: bool) {
-        self.traj.tracks[i].segments.push(Segment { t0, start, j0, rest, steps: Vec::new() });
-        self.cursors[i] = (self.traj.dynamics[i].integrate && !rest)
-            .then(|| Cursor { q: start.q, z: integrator::initial(&(start.q.inverse() * start.w), self.opts.tangent) });
+    fn start_segment(
+        &mut self,
+        i: usize,
+        t0: f64,
+        start: BodyState,
+        j0: DMatrix<f64>,
+        rest: bool,
+        slide: Option<Slide>,
+    ) {
+        self.traj.tracks[i].segments.push(Segment {
+            t0,
+            start,
+            j0,
+            rest,
+            slide,
+            steps: Vec::new(),
+        });
+        // Resting and sliding bodies move in closed form: nothing to integrate.
+        self.cursors[i] =
+            (self.traj.dynamics[i].integrate && !rest && slide.is_none()).then(|| Cursor {
+                q: start.q,
+                z: integrator::initial(&(start.q.inverse() * start.w), self.opts.tangent),
+            });
     }
 
     /// `J⁺ = Φ_q J⁻ + Φ_u + (Φ_q F⁻ − F⁺) dt_c/du` with
@@ -523,23 +827,45 @@ impl Sim<'_> {
         sb: Option<&BodyState>,
         post_a: &BodyState,
         post_b: Option<&BodyState>,
-        rest: bool,
+        mode: &Mode,
         ctx: &ImpulseCtx,
-    ) -> Result<(DMatrix<f64>, DVector<f64>, f64), (TangentError, f64)> {
+    ) -> Result<Saltation, (TangentError, f64)> {
         let m = self.traj.m;
         let a = pair.a;
         let ns = if sb.is_some() { 24 } else { 12 };
         let nonfinite = |ratio| (TangentError::NonFinite { t: tc }, ratio);
         let mut jpre = DMatrix::zeros(ns, m);
-        jpre.rows_mut(0, 12).copy_from(&self.traj.jacobian(a, tc, StateSide::After).map_err(|e| (e, f64::NAN))?);
+        jpre.rows_mut(0, 12).copy_from(
+            &self
+                .traj
+                .jacobian(a, tc, StateSide::After)
+                .map_err(|e| (e, f64::NAN))?,
+        );
         let mut fpre = DVector::zeros(ns);
-        fpre.rows_mut(0, 12).copy_from(&self.traj.flow(a, sa, false));
+        fpre.rows_mut(0, 12)
+            .copy_from(&self.traj.flow(a, sa, false));
         let mut fpost = DVector::zeros(ns);
-        fpost.rows_mut(0, 12).copy_from(&self.traj.flow(a, post_a, rest));
+        let post_flow = match mode {
+            Mode::Rest => DVector::zeros(12),
+            Mode::Slide { slide, .. } => {
+                let f = slide.flow(post_a, self.traj.dynamics[a].drag_k);
+                DVector::from_iterator(12, f.iter().flat_map(|v| v.iter().cloned()))
+            }
+            Mode::Bounce => self.traj.flow(a, post_a, false),
+        };
+        fpost.rows_mut(0, 12).copy_from(&post_flow);
         if let (Some(j), Some(sb), Some(pb)) = (pair.b_body(), sb, post_b) {
-            jpre.rows_mut(12, 12).copy_from(&self.traj.jacobian(j, tc, StateSide::After).map_err(|e| (e, f64::NAN))?);
-            fpre.rows_mut(12, 12).copy_from(&self.traj.flow(j, sb, false));
-            fpost.rows_mut(12, 12).copy_from(&self.traj.flow(j, pb, false));
+            jpre.rows_mut(12, 12).copy_from(
+                &self
+                    .traj
+                    .jacobian(j, tc, StateSide::After)
+                    .map_err(|e| (e, f64::NAN))?,
+            );
+            fpre.rows_mut(12, 12)
+                .copy_from(&self.traj.flow(j, sb, false));
+            fpost
+                .rows_mut(12, 12)
+                .copy_from(&self.traj.flow(j, pb, false));
         }
         let jac = ctx.jacobian();
         let eq = jac.view((0, 0), (1, ns)).into_owned();
@@ -547,19 +873,32 @@ impl Sim<'_> {
         // Grazing measure: the cosine between E_q and the configuration part
         // of F (velocities; E does not depend on them, so including the
         // accelerations would only mix units into the ratio).
-        let config: f64 = (0..ns).filter(|r| r % 12 < 6).map(|r| fpre[r] * fpre[r]).sum::<f64>().sqrt();
+        let config: f64 = (0..ns)
+            .filter(|r| r % 12 < 6)
+            .map(|r| fpre[r] * fpre[r])
+            .sum::<f64>()
+            .sqrt();
         let ratio = denom.abs() / (eq.norm() * config);
         if !ratio.is_finite() {
             return Err(nonfinite(ratio));
         }
         if ratio < self.opts.graze_tol {
-            return Err((TangentError::Grazing { event: index, t: tc, ratio }, ratio));
+            return Err((
+                TangentError::Grazing {
+                    event: index,
+                    t: tc,
+                    ratio,
+                },
+                ratio,
+            ));
         }
         let dt = -(&eq * &jpre) / denom; // 1 × m
         let mut phi = DMatrix::<f64>::identity(ns, ns);
-        phi.view_mut((6, 0), (6, ns)).copy_from(&jac.view((1, 0), (6, ns)));
+        phi.view_mut((6, 0), (6, ns))
+            .copy_from(&jac.view((1, 0), (6, ns)));
         if ns == 24 {
-            phi.view_mut((18, 0), (6, ns)).copy_from(&jac.view((7, 0), (6, ns)));
+            phi.view_mut((18, 0), (6, ns))
+                .copy_from(&jac.view((7, 0), (6, ns)));
         }
         let mut jpost = &phi * &jpre + (&phi * &fpre - &fpost) * &dt;
         // Φ_u: event parameters, masses and inertias.
@@ -602,8 +941,18 @@ impl Sim<'_> {
                 }
             }
         }
-        if rest {
-            jpost.rows_mut(6, 6).fill(0.0);
+        // Rest and slide project the post-impulse velocities; their flows
+        // already lie in the projections' ranges, so projecting the rows
+        // of J⁺ is the exact derivative of the composed map.
+        match mode {
+            Mode::Rest => jpost.rows_mut(6, 6).fill(0.0),
+            Mode::Slide { proj_v, proj_w, .. } => {
+                let jv = proj_v * jpost.rows(6, 3);
+                let jw = proj_w * jpost.rows(9, 3);
+                jpost.rows_mut(6, 3).copy_from(&jv);
+                jpost.rows_mut(9, 3).copy_from(&jw);
+            }
+            Mode::Bounce => {}
         }
         if !jpost.iter().chain(dt.iter()).all(|v| v.is_finite()) {
             return Err(nonfinite(ratio));

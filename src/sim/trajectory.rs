@@ -4,6 +4,7 @@
 use super::dynamics::BodyDynamics;
 use super::flight::translation;
 use super::integrator::{Step, body_rate, tangent_block};
+use super::rest::Slide;
 use super::state::{BodyState, StateSide};
 use crate::geometry::FeaturePair;
 use crate::math::{Mat3, Vec3, exp_so3, left_jacobian, skew};
@@ -28,6 +29,9 @@ pub struct Segment {
     pub j0: DMatrix<f64>,
     /// The body rests from `t0` on.
     pub rest: bool,
+    /// The body slides on a static plane from `t0` on (closed form, see
+    /// [`Slide`]).
+    pub slide: Option<Slide>,
     /// Integration steps (bodies whose rotation is integrated).
     pub steps: Vec<Step>,
 }
@@ -72,6 +76,12 @@ pub struct Event {
     /// scene's rest speed); `rest_time` is when the Zeno series of ever
     /// smaller bounces would have ended.
     pub rest: bool,
+    /// From this event the body slides on the obstacle's plane instead of
+    /// bouncing (its normal motion died out; see [`Slide`]).
+    pub slide: Option<Slide>,
+    /// The impulse was a micro-collision: the contact separated slower than
+    /// the scene's rest speed and was made to leave at exactly that speed.
+    pub micro: bool,
     pub rest_time: Option<f64>,
     /// Friction mode when friction applied: `Some(true)` sticking.
     pub stick: Option<bool>,
@@ -86,7 +96,9 @@ pub struct Event {
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum TangentError {
     /// A grazing contact makes `dt_c/du` unbounded from this event on.
-    #[error("grazing contact at event {event} (t = {t:.6} s, |E_q F| ratio {ratio:.1e}): the motion is not differentiable there; nudge falls back to sampling")]
+    #[error(
+        "grazing contact at event {event} (t = {t:.6} s, |E_q F| ratio {ratio:.1e}): the motion is not differentiable there; nudge falls back to sampling"
+    )]
     Grazing { event: usize, t: f64, ratio: f64 },
     /// The simulation was run without tangents.
     #[error("the trajectory was simulated without tangents")]
@@ -157,17 +169,33 @@ impl Trajectory {
 
     fn step_at<'a>(&self, seg: &'a Segment, t: f64) -> Option<&'a Step> {
         let i = seg.steps.partition_point(|s| s.t0 <= t);
-        if i == 0 { None } else { Some(&seg.steps[i - 1]) }
+        if i == 0 {
+            None
+        } else {
+            Some(&seg.steps[i - 1])
+        }
     }
 
     /// Rotation state (q, world ω) and the integrated vector at `t` in a
     /// segment; with `full` the vector includes the tangent block.
-    fn rotation(&self, body: usize, seg: &Segment, t: f64, full: bool) -> (BodyState, Option<Vec<f64>>) {
+    fn rotation(
+        &self,
+        body: usize,
+        seg: &Segment,
+        t: f64,
+        full: bool,
+    ) -> (BodyState, Option<Vec<f64>>) {
         let d = &self.dynamics[body];
         let s0 = &seg.start;
         let tau = t - seg.t0;
         if seg.rest {
             return (*s0, None);
+        }
+        if let Some(slide) = &seg.slide {
+            if self.gravity_listed {
+                Counters::bump(&self.counters.gravity, 1);
+            }
+            return (slide.at(s0, d.drag_k, tau).state, None);
         }
         let tr = translation(&s0.x, &s0.v, &self.gravity, d.drag_k, tau);
         if self.gravity_listed {
@@ -178,16 +206,43 @@ impl Trajectory {
         }
         if !d.integrate {
             let q = exp_so3(&(s0.w * tau)) * s0.q;
-            return (BodyState { x: tr.x, q, v: tr.v, w: s0.w }, None);
+            return (
+                BodyState {
+                    x: tr.x,
+                    q,
+                    v: tr.v,
+                    w: s0.w,
+                },
+                None,
+            );
         }
         match self.step_at(seg, t) {
-            None => (BodyState { x: tr.x, v: tr.v, ..*s0 }, None),
+            None => (
+                BodyState {
+                    x: tr.x,
+                    v: tr.v,
+                    ..*s0
+                },
+                None,
+            ),
             Some(step) => {
                 let mut evals = 0;
-                let (q, z) = if full { step.at(d, t, &mut evals) } else { step.at_state(d, t, &mut evals) };
+                let (q, z) = if full {
+                    step.at(d, t, &mut evals)
+                } else {
+                    step.at_state(d, t, &mut evals)
+                };
                 Counters::bump(&self.counters.gyroscopic, evals);
                 let w = q * body_rate(&z);
-                (BodyState { x: tr.x, q, v: tr.v, w }, Some(z))
+                (
+                    BodyState {
+                        x: tr.x,
+                        q,
+                        v: tr.v,
+                        w,
+                    },
+                    Some(z),
+                )
             }
         }
     }
@@ -196,7 +251,8 @@ impl Trajectory {
     /// pre- or post-impulse limit).
     pub fn state(&self, body: usize, t: f64, side: StateSide) -> BodyState {
         let i = self.segment_index(body, t, side);
-        self.rotation(body, &self.tracks[body].segments[i], t, false).0
+        self.rotation(body, &self.tracks[body].segments[i], t, false)
+            .0
     }
 
     /// Whether Jacobians are available at time `t`.
@@ -212,12 +268,21 @@ impl Trajectory {
 
     /// Jacobian `∂q(t)/∂u` of `body` (12 × m, rows `δx, δθ, δv, δω` with
     /// `δθ` a world-frame rotation), exact to integrator accuracy.
-    pub fn jacobian(&self, body: usize, t: f64, side: StateSide) -> Result<DMatrix<f64>, TangentError> {
+    pub fn jacobian(
+        &self,
+        body: usize,
+        t: f64,
+        side: StateSide,
+    ) -> Result<DMatrix<f64>, TangentError> {
         self.jacobian_available(t)?;
         let i = self.segment_index(body, t, side);
         let seg = &self.tracks[body].segments[i];
         let j = self.segment_jacobian(body, seg, t);
-        if j.iter().all(|v| v.is_finite()) { Ok(j) } else { Err(TangentError::NonFinite { t }) }
+        if j.iter().all(|v| v.is_finite()) {
+            Ok(j)
+        } else {
+            Err(TangentError::NonFinite { t })
+        }
     }
 
     fn segment_jacobian(&self, body: usize, seg: &Segment, t: f64) -> DMatrix<f64> {
@@ -229,6 +294,24 @@ impl Trajectory {
         let d = &self.dynamics[body];
         let s0 = &seg.start;
         let tau = t - seg.t0;
+        if let Some(slide) = &seg.slide {
+            let at = slide.at(s0, d.drag_k, tau);
+            let mut j = DMatrix::zeros(12, m);
+            let (jx0, jt0, jv0, jw0) = (j0.rows(0, 3), j0.rows(3, 3), j0.rows(6, 3), j0.rows(9, 3));
+            j.rows_mut(0, 3).copy_from(&(jx0 + at.dx_dv * jv0));
+            j.rows_mut(6, 3).copy_from(&(at.dv_dv * jv0));
+            j.rows_mut(3, 3)
+                .copy_from(&(at.rot * jt0 + at.dth_dw * jw0));
+            j.rows_mut(9, 3).copy_from(&(at.dw_dw * jw0));
+            if let (Some(k), Some(col)) = (d.drag_k, self.mass_cols[body]) {
+                let dk = -k / d.mass;
+                for r in 0..3 {
+                    j[(r, col)] += at.dx_dk[r] * dk;
+                    j[(6 + r, col)] += at.dv_dk[r] * dk;
+                }
+            }
+            return j;
+        }
         let tr = translation(&s0.x, &s0.v, &self.gravity, d.drag_k, tau);
         let mut j = DMatrix::zeros(12, m);
         // Translation: δx = δx₀ + φ₁ δv₀ (+ ∂x/∂k δk), δv = e δv₀ (+ ∂v/∂k δk).
@@ -294,7 +377,17 @@ impl Trajectory {
         if resting {
             return DVector::zeros(12);
         }
-        let f = self.dynamics[body].state_derivative(s, &self.gravity);
+        // A state that starts a slide moves by the slide's law.
+        let slide = self.tracks[body]
+            .segments
+            .iter()
+            .rev()
+            .find(|seg| seg.slide.is_some() && seg.start == *s)
+            .and_then(|seg| seg.slide);
+        let f = match slide {
+            Some(sl) => sl.flow(s, self.dynamics[body].drag_k),
+            None => self.dynamics[body].state_derivative(s, &self.gravity),
+        };
         DVector::from_iterator(12, f.iter().flat_map(|v| v.iter().cloned()))
     }
 
@@ -304,31 +397,74 @@ impl Trajectory {
         self.tracks[body].segments[i].rest
     }
 
+    /// The slide `body` follows at time `t`, if any.
+    pub fn slide(&self, body: usize, t: f64, side: StateSide) -> Option<Slide> {
+        let i = self.segment_index(body, t, side);
+        self.tracks[body].segments[i].slide
+    }
+
+    /// Whether `body` leans on obstacle `o` at time `t` (resting on
+    /// anything, or sliding on `o`): the pair needs no event search.
+    pub fn supported_by(&self, body: usize, t: f64, o: usize) -> bool {
+        let seg = &self.tracks[body].segments[self.segment_index(body, t, StateSide::After)];
+        seg.rest || seg.slide.is_some_and(|s| s.obstacle == o)
+    }
+
     /// Whether `s` is the frozen state of a body at rest (resting bodies
     /// have zero velocities; checked only then).
     pub(crate) fn resting_state(&self, body: usize, s: &BodyState) -> bool {
-        self.tracks[body].segments.iter().rev().any(|seg| seg.rest && seg.start.x == s.x)
+        self.tracks[body]
+            .segments
+            .iter()
+            .rev()
+            .any(|seg| seg.rest && seg.start.x == s.x)
     }
 
     /// Events in which `body` takes part, in time order.
     pub fn body_events(&self, body: usize) -> Vec<&Event> {
-        self.events.iter().filter(|e| e.a == body || e.b == Party::Body(body)).collect()
+        self.events
+            .iter()
+            .filter(|e| e.a == body || e.b == Party::Body(body))
+            .collect()
     }
 
     /// Signature of the motion: the ordered list of (pair, feature) keys.
+    /// How each event ended (rest, slide, micro-collision) is part of it:
+    /// each is a different impulse map, so a change is a discontinuity.
     pub fn signature(&self) -> Vec<String> {
-        self.events.iter().map(|e| format!("{}|{:?}|{}", e.a, e.b, e.key)).collect()
+        self.events
+            .iter()
+            .map(|e| {
+                let ending = if e.rest {
+                    "|rest"
+                } else if e.slide.is_some() {
+                    "|slide"
+                } else if e.micro && e.separation > -e.approach {
+                    "|micro-floor"
+                } else if e.micro {
+                    "|micro"
+                } else {
+                    ""
+                };
+                format!("{}|{:?}|{}{ending}", e.a, e.b, e.key)
+            })
+            .collect()
     }
 
     /// Sample a body-frame point's path at `n` uniform times plus every
     /// event time of the body (so bounces are drawn sharp).
     pub fn path(&self, body: usize, point: &Vec3, n: usize) -> Vec<(f64, Vec3)> {
-        let mut times: Vec<f64> = (0..=n).map(|i| self.duration * i as f64 / n.max(1) as f64).collect();
+        let mut times: Vec<f64> = (0..=n)
+            .map(|i| self.duration * i as f64 / n.max(1) as f64)
+            .collect();
         for e in self.body_events(body) {
             times.push(e.t);
         }
         times.sort_by(f64::total_cmp);
         times.dedup();
-        times.into_iter().map(|t| (t, self.state(body, t, StateSide::After).point(point))).collect()
+        times
+            .into_iter()
+            .map(|t| (t, self.state(body, t, StateSide::After).point(point)))
+            .collect()
     }
 }

@@ -1,0 +1,524 @@
+//! How bounces end: rest, sliding contact and micro-collisions.
+//!
+//! nudge models contact as impacts only, so a body that should lie on the
+//! floor would bounce ever lower (a Zeno series), and a body pivoting on a
+//! corner or rocking onto a face would chatter in infinitely many impacts.
+//! After every impulse against a static obstacle [`decide`] picks how it
+//! ends, from the post-impulse state. `v_r` is the rest speed in force for
+//! the body: the scene's `rest_speed`, raised to `√(2 |g| h)` so that no
+//! hop is lower than `h = HOP · reach` (3e-5 of the body's size: invisible,
+//! and hops below it would only cost events). A *support point* is a body
+//! vertex (or a ball's lowest point) within the band `δ = 10 v_r² / |g|`
+//! (plus the event skin) of an obstacle's surface: a body whose points all
+//! move slower than `v_r` cannot rock higher than about `v_r² / 2g`, so
+//! every vertex of the face it lies on is inside the band.
+//!
+//! 1. **Rest** — every point of the body moves slower than `v_r`, and the
+//!    body is *statically supported*: the vertical line through its centre
+//!    of mass meets the convex hull of the support points whose surface
+//!    normals lie in the friction cone around "up" (exactly up without
+//!    friction). The body is frozen. Without gravity any slow body rests.
+//!    A slow body leaning on one vertex or edge with its centre of mass
+//!    outside is *not* frozen: it topples. (The old rule froze any body
+//!    whose contact point separated slower than the rest speed, leaving
+//!    spinning, tumbling bodies frozen tilted on one corner, or mid-air
+//!    against walls.)
+//! 2. **Slide** — against a half-space only: the normal speeds of all
+//!    support points are below `v_r` and the centre of mass projects (along
+//!    the plane normal) into their hull, which is a face (three or more
+//!    non-collinear points) or a single ball. The normal motion is removed
+//!    (`v ← v − (v·n)n`; for a face also the tilting rotation,
+//!    `ω ← (ω·n)n`) and the body moves on in closed form in the plane:
+//!    gravity's tangential part accelerates it; with friction a Coulomb
+//!    deceleration `μ g_n` of the in-plane speed and `μ g_n m ρ̄ / I_n` of
+//!    the spin (ρ̄: mean distance of the support points from the centre of
+//!    mass; translation and spin decoupled, an approximation) stops it.
+//!    Friction on an inclined plane is not modelled this way (such a body
+//!    keeps bouncing), nor is rolling resistance of a sliding ball.
+//! 3. **Bounce** — otherwise an ordinary impulse; and if it would separate
+//!    slower than `v_r` (the Zeno regime of a contact that should be
+//!    sustained: pivoting, rolling onto a face) it is a *micro-collision*:
+//!    the contact leaves at `max(u, v_r)` for an approach speed `u`. A
+//!    sustained frictionless contact does no work, so elastic is the right
+//!    limit, and the floor `v_r` makes every hop last at least `2 v_r / g`:
+//!    the impact rate is bounded, no Zeno series, and the contact point
+//!    never drifts below the surface. Energy grows only when `u < v_r`, by
+//!    at most `½ m v_r²` per micro-collision (`Event::micro` marks them).
+//!    The dual-number Jacobian differentiates this map.
+//!
+//! Every path ends: a Zeno series of a supported body falls below `v_r` in
+//! finitely many bounces and rests or slides; chatter is bounded by the hop
+//! floor; and a body that neither rests nor slides is moving faster than
+//! `v_r` somewhere, which gravity and `e < 1` bounces dissipate.
+
+use super::dynamics::BodyDynamics;
+use super::state::BodyState;
+use crate::geometry::{NearPoint, PartKind, near_points};
+use crate::math::{Mat3, Vec3};
+use crate::scene::Scene;
+use nalgebra::{Isometry3, Translation3};
+
+/// A body sliding on a static half-space after its bounces died out
+/// (rule 2 above). The motion is closed form from the segment start.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Slide {
+    /// The supporting obstacle (its pair is not searched while sliding).
+    pub obstacle: usize,
+    /// Unit plane normal, world, pointing out of the obstacle.
+    pub normal: Vec3,
+    /// In-plane acceleration: gravity's tangential part `g − (g·n) n`, m/s².
+    pub accel: Vec3,
+    /// Coulomb deceleration of the in-plane speed, m/s² (0 frictionless;
+    /// only on planes normal to gravity, where `accel` is zero).
+    pub decel: f64,
+    /// Coulomb deceleration of the spin about the normal, rad/s².
+    pub spin_decel: f64,
+}
+
+/// How an impact against an obstacle ends.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Mode {
+    /// Keep bouncing (a separation slower than `v_r` makes it a
+    /// micro-collision).
+    Bounce,
+    /// Freeze the body.
+    Rest,
+    /// Slide on the plane; the post-impulse velocities are projected by
+    /// `proj_v`, `proj_w`.
+    Slide {
+        slide: Slide,
+        proj_v: Mat3,
+        proj_w: Mat3,
+    },
+}
+
+/// Everything [`decide`] needs about the impact.
+pub(crate) struct Impact<'a> {
+    pub scene: &'a Scene,
+    pub dynamics: &'a BodyDynamics,
+    /// Effective gravity.
+    pub gravity: Vec3,
+    pub body: usize,
+    pub obstacle: usize,
+    /// Post-impulse state.
+    pub post: BodyState,
+    /// Support band δ, m.
+    pub band: f64,
+    /// The rest speed `v_r` in force for this body (see [`thresholds`]).
+    pub v_rest: f64,
+}
+
+/// Micro-collision hops rise at most this fraction of the body's reach.
+pub const HOP: f64 = 3e-5;
+
+/// The rest speed `v_r` (m/s) in force for a body and its support band
+/// `δ` (m): `v_r = max(rest_speed, √(2 |g| h))` with the hop height
+/// `h = HOP · reach` (hops lower than that are invisible and only cost
+/// events), and `δ = 10 arm + 10 v_r² / |g|`. `v_r = 0` when the scene
+/// disables resting (`rest_speed = 0`).
+pub(crate) fn thresholds(scene: &Scene, d: &BodyDynamics, gravity: &Vec3, arm: f64) -> (f64, f64) {
+    let g = gravity.norm();
+    if scene.rest_speed <= 0.0 {
+        return (0.0, 10.0 * arm);
+    }
+    let v_r = scene.rest_speed.max((2.0 * g * HOP * d.reach).sqrt());
+    let band = 10.0 * arm + if g > 0.0 { 10.0 * v_r * v_r / g } else { 0.0 };
+    (v_r, band)
+}
+
+/// Body points relative to the centre of mass (world axes), with the radius
+/// of the ball they stand for (0 for hull vertices).
+fn body_points(scene: &Scene, body: usize, s: &BodyState) -> Vec<(Vec3, f64)> {
+    let mut out = Vec::new();
+    for p in &scene.bodies[body].geometry.parts {
+        match &p.kind {
+            PartKind::Ball { radius } => out.push((s.q * p.offset.translation.vector, *radius)),
+            PartKind::Convex { .. } => out.extend(p.vertices().into_iter().map(|v| (s.q * v, 0.0))),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Largest speed of any point of the body.
+pub(crate) fn max_point_speed(scene: &Scene, body: usize, s: &BodyState) -> f64 {
+    body_points(scene, body, s)
+        .iter()
+        .map(|(r, radius)| (s.v + s.w.cross(r)).norm() + s.w.norm() * radius)
+        .fold(0.0, f64::max)
+}
+
+/// The friction coefficient between a body and an obstacle (0 without the
+/// friction effect).
+pub(crate) fn pair_friction(scene: &Scene, body: usize, obstacle: usize) -> f64 {
+    if scene.effects.friction {
+        (scene.bodies[body].friction * scene.obstacles[obstacle].friction).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// The support points of a body on one obstacle.
+fn supports(
+    scene: &Scene,
+    body: usize,
+    obstacle: usize,
+    s: &BodyState,
+    band: f64,
+) -> Vec<NearPoint> {
+    let pose = Isometry3::from_parts(Translation3::from(s.x), s.q);
+    let o = &scene.obstacles[obstacle];
+    near_points(
+        &scene.bodies[body].geometry,
+        &pose,
+        &o.geometry,
+        &o.pose,
+        band,
+    )
+}
+
+/// Whether the line through `com` along `dir` meets the convex hull of
+/// `points` (within `tol`, m), and whether the hull is a proper polygon
+/// (at least three non-collinear points).
+pub(crate) fn over_hull(points: &[Vec3], com: &Vec3, dir: &Vec3, tol: f64) -> (bool, bool) {
+    if points.is_empty() {
+        return (false, false);
+    }
+    let d = dir.normalize();
+    let t1 = d
+        .cross(&Vec3::x())
+        .try_normalize(1e-6)
+        .unwrap_or_else(|| d.cross(&Vec3::y()).normalize());
+    let t2 = d.cross(&t1);
+    let flat = |p: &Vec3| [t1.dot(&(p - com)), t2.dot(&(p - com))];
+    let mut pts: Vec<[f64; 2]> = points.iter().map(flat).collect();
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    pts.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-12);
+    let cross = |o: &[f64; 2], a: &[f64; 2], b: &[f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    // Andrew's monotone chain.
+    let mut hull: Vec<[f64; 2]> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for p in iter {
+            while hull.len() >= start + 2
+                && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(*p);
+        }
+        hull.pop();
+    }
+    // Distance from the origin (the centre of mass) to a segment.
+    let seg = |a: &[f64; 2], b: &[f64; 2]| {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len2 = dx * dx + dy * dy;
+        let s = if len2 > 0.0 {
+            (-(a[0] * dx + a[1] * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (a[0] + s * dx).hypot(a[1] + s * dy)
+    };
+    let area: f64 = (0..hull.len())
+        .map(|i| cross(&[0.0, 0.0], &hull[i], &hull[(i + 1) % hull.len()]))
+        .sum::<f64>()
+        * 0.5;
+    let scale = pts
+        .iter()
+        .map(|p| p[0].hypot(p[1]))
+        .fold(0.0, f64::max)
+        .max(1e-12);
+    let polygon = hull.len() >= 3 && area > 1e-9 * scale * scale;
+    let inside = match hull.len() {
+        0 => pts.first().is_some_and(|p| p[0].hypot(p[1]) <= tol),
+        1 => hull[0][0].hypot(hull[0][1]) <= tol,
+        2 => seg(&hull[0], &hull[1]) <= tol,
+        n => {
+            (0..n).all(|i| cross(&hull[i], &hull[(i + 1) % n], &[0.0, 0.0]) >= 0.0)
+                || (0..n).any(|i| seg(&hull[i], &hull[(i + 1) % n]) <= tol)
+        }
+    };
+    (inside, polygon)
+}
+
+/// Decide how an impact against an obstacle ends (see the module notes).
+pub(crate) fn decide(i: &Impact<'_>) -> Mode {
+    let scene = i.scene;
+    let s = &i.post;
+    let v_r = i.v_rest;
+    let g = i.gravity;
+    let gn = g.norm();
+    if v_r <= 0.0 {
+        return Mode::Bounce;
+    }
+    let tol = 1e-9 + 1e-6 * i.dynamics.reach;
+    let slow = max_point_speed(scene, i.body, s) < v_r;
+    if gn == 0.0 {
+        return if slow { Mode::Rest } else { Mode::Bounce };
+    }
+    let down = g / gn;
+    // Points that can hold the body up: normals within the friction cone
+    // around "up" (exactly up without friction).
+    let mut held_by = Vec::new();
+    for o in 0..scene.obstacles.len() {
+        let mu = pair_friction(scene, i.body, o);
+        let cos_max = if mu > 0.0 {
+            1.0 / (1.0 + mu * mu).sqrt()
+        } else {
+            1.0 - 1e-9
+        };
+        held_by.extend(
+            supports(scene, i.body, o, s, i.band)
+                .into_iter()
+                .filter(|p| -p.normal.dot(&down) >= cos_max)
+                .map(|p| p.point),
+        );
+    }
+    let held = over_hull(&held_by, &s.x, &down, tol).0;
+    if slow && held {
+        return Mode::Rest;
+    }
+    let bounce = Mode::Bounce;
+    // Sliding: only on a half-space that gravity presses the body into.
+    let o = &scene.obstacles[i.obstacle];
+    let [part] = o.geometry.parts.as_slice() else {
+        return bounce;
+    };
+    let PartKind::HalfSpace { normal } = part.kind else {
+        return bounce;
+    };
+    let n = (o.pose * part.offset).rotation * normal;
+    let g_n = -g.dot(&n);
+    if g_n <= 1e-9 * gn {
+        return bounce;
+    }
+    let sup = supports(scene, i.body, i.obstacle, s, i.band);
+    if sup
+        .iter()
+        .any(|p| n.dot(&(s.v + s.w.cross(&(p.point - s.x)))).abs() >= v_r)
+    {
+        return bounce;
+    }
+    let pts: Vec<Vec3> = sup.iter().map(|p| p.point).collect();
+    let (inside, polygon) = over_hull(&pts, &s.x, &n, tol);
+    let ball = !polygon
+        && !i.dynamics.integrate
+        && scene.bodies[i.body]
+            .geometry
+            .parts
+            .iter()
+            .all(|p| matches!(p.kind, PartKind::Ball { .. }));
+    if !inside || !(polygon || ball) {
+        return bounce;
+    }
+    let accel = g + n * g_n;
+    let mu = pair_friction(scene, i.body, i.obstacle);
+    if mu > 0.0 && polygon && accel.norm() > 1e-9 * gn {
+        return bounce;
+    }
+    let nn = n * n.transpose();
+    let proj_v = Mat3::identity() - nn;
+    let (proj_w, decel, spin_decel) = if polygon {
+        if mu > 0.0 {
+            let c = s.x - n * n.dot(&s.x);
+            let rho = pts
+                .iter()
+                .map(|p| ((p - n * n.dot(p)) - c).norm())
+                .sum::<f64>()
+                / pts.len() as f64;
+            let r = *s.q.to_rotation_matrix().matrix();
+            let i_n = n.dot(&(r * i.dynamics.inertia * r.transpose() * n));
+            (nn, mu * g_n, mu * g_n * i.dynamics.mass * rho / i_n)
+        } else {
+            (nn, 0.0, 0.0)
+        }
+    } else {
+        // A ball: its spin does not move its contact; friction is not
+        // modelled once it slides (see the module notes).
+        (Mat3::identity(), 0.0, 0.0)
+    };
+    Mode::Slide {
+        slide: Slide {
+            obstacle: i.obstacle,
+            normal: n,
+            accel,
+            decel,
+            spin_decel,
+        },
+        proj_v,
+        proj_w,
+    }
+}
+
+/// A sliding body at `τ` after its slide began, with the coefficients of
+/// its tangent: `δx = δx₀ + dx_dv δv₀ (+ dx_dk δk)`, `δv = dv_dv δv₀
+/// (+ dv_dk δk)`, `δθ = rot δθ₀ + dth_dw δω₀`, `δω = dw_dw δω₀`. The
+/// friction decelerations are held fixed in the tangent.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SlideAt {
+    pub state: BodyState,
+    pub dx_dv: Mat3,
+    pub dv_dv: Mat3,
+    pub dx_dk: Vec3,
+    pub dv_dk: Vec3,
+    pub rot: Mat3,
+    pub dth_dw: Mat3,
+    pub dw_dw: Mat3,
+}
+
+impl Slide {
+    /// The closed-form motion `τ` seconds after the slide began from `s0`.
+    pub(crate) fn at(&self, s0: &BodyState, drag_k: Option<f64>, tau: f64) -> SlideAt {
+        let id = Mat3::identity();
+        let (x, v, dx_dv, dv_dv, dx_dk, dv_dk) = if self.decel > 0.0 {
+            let speed = s0.v.norm();
+            if speed == 0.0 {
+                (
+                    s0.x,
+                    Vec3::zeros(),
+                    Mat3::zeros(),
+                    Mat3::zeros(),
+                    Vec3::zeros(),
+                    Vec3::zeros(),
+                )
+            } else {
+                let a = self.decel;
+                let u = s0.v / speed;
+                let perp = id - u * u.transpose();
+                if tau < speed / a {
+                    let x = s0.x + s0.v * tau - u * (0.5 * a * tau * tau);
+                    let v = u * (speed - a * tau);
+                    (
+                        x,
+                        v,
+                        id * tau - perp * (0.5 * a * tau * tau / speed),
+                        id - perp * (a * tau / speed),
+                        Vec3::zeros(),
+                        Vec3::zeros(),
+                    )
+                } else {
+                    let x = s0.x + u * (0.5 * speed * speed / a);
+                    (
+                        x,
+                        Vec3::zeros(),
+                        (id + u * u.transpose()) * (0.5 * speed / a),
+                        Mat3::zeros(),
+                        Vec3::zeros(),
+                        Vec3::zeros(),
+                    )
+                }
+            }
+        } else {
+            let tr = super::flight::translation(&s0.x, &s0.v, &self.accel, drag_k, tau);
+            (tr.x, tr.v, id * tr.dx_dv, id * tr.dv_dv, tr.dx_dk, tr.dv_dk)
+        };
+        let n = self.normal;
+        let nn = n * n.transpose();
+        let (q, w, rot, dth_dw, dw_dw) = if self.spin_decel > 0.0 {
+            let w0 = n.dot(&s0.w);
+            let a = self.spin_decel;
+            let (phi, w, dphi, dw) = if w0 == 0.0 {
+                (0.0, 0.0, 0.0, 0.0)
+            } else if tau < w0.abs() / a {
+                (
+                    w0 * tau - 0.5 * a * tau * tau * w0.signum(),
+                    w0 - a * tau * w0.signum(),
+                    tau,
+                    1.0,
+                )
+            } else {
+                (0.5 * w0 * w0.abs() / a, 0.0, w0.abs() / a, 0.0)
+            };
+            let e = crate::math::exp_so3(&(n * phi));
+            (
+                e * s0.q,
+                n * w,
+                *e.to_rotation_matrix().matrix(),
+                nn * dphi,
+                nn * dw,
+            )
+        } else {
+            let wt = s0.w * tau;
+            let e = crate::math::exp_so3(&wt);
+            (
+                e * s0.q,
+                s0.w,
+                *e.to_rotation_matrix().matrix(),
+                crate::math::left_jacobian(&wt) * tau,
+                id,
+            )
+        };
+        SlideAt {
+            state: BodyState { x, q, v, w },
+            dx_dv,
+            dv_dv,
+            dx_dk,
+            dv_dk,
+            rot,
+            dth_dw,
+            dw_dw,
+        }
+    }
+
+    /// `F = (v, ω, a, α)` of a sliding body in state `s`.
+    pub(crate) fn flow(&self, s: &BodyState, drag_k: Option<f64>) -> [Vec3; 4] {
+        let a = if self.decel > 0.0 {
+            s.v.try_normalize(0.0)
+                .map_or(Vec3::zeros(), |u| -u * self.decel)
+        } else {
+            self.accel - s.v * drag_k.unwrap_or(0.0)
+        };
+        let w0 = self.normal.dot(&s.w);
+        let alpha = if self.spin_decel > 0.0 && w0 != 0.0 {
+            -self.normal * (self.spin_decel * w0.signum())
+        } else {
+            Vec3::zeros()
+        };
+        [s.v, s.w, a, alpha]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_contains_the_centre_of_a_square_and_not_a_point_outside() {
+        let sq = [
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+        ];
+        assert_eq!(
+            over_hull(&sq, &Vec3::new(0.0, 0.0, 3.0), &Vec3::z(), 1e-9),
+            (true, true)
+        );
+        assert_eq!(
+            over_hull(&sq, &Vec3::new(1.5, 0.0, 3.0), &Vec3::z(), 1e-9),
+            (false, true)
+        );
+        // A diagonal of the square (three corners) still holds the centre.
+        assert_eq!(
+            over_hull(&sq[..3], &Vec3::zeros(), &Vec3::z(), 1e-9).0,
+            true
+        );
+        // An edge does not hold a centre off it; a single point holds only itself.
+        assert_eq!(
+            over_hull(&sq[..2], &Vec3::zeros(), &Vec3::z(), 1e-9),
+            (false, false)
+        );
+        assert_eq!(
+            over_hull(&sq[..1], &Vec3::new(1.0, 1.0, 5.0), &Vec3::z(), 1e-9),
+            (true, false)
+        );
+    }
+}
