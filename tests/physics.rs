@@ -398,3 +398,60 @@ fn no_contact_fires_twice_over_ten_thousand_bounces() {
         );
     }
 }
+
+/// No tunnelling: a fast sphere and a fast-spinning rod hit a 1 cm wall at
+/// the same time whatever the integration step (dt, 10·dt, 100·dt) — the
+/// event search bounds the approach, it does not sample it.
+#[test]
+fn fast_bodies_hit_a_thin_wall_at_the_same_time_for_any_step() {
+    let first_contact = |rod: bool, step: f64| {
+        let mut s = testkit::scene(0.2);
+        s.effects = nudge::scene::Effects {
+            collisions: true,
+            gyroscopic: true,
+            ..Default::default()
+        };
+        s.accuracy.method = nudge::scene::Method::Rk4 { step };
+        let mut b = if rod {
+            // A rod spinning about its own z axis (a principal axis) at 40 rad/s.
+            let mut b = body_with_inertia(
+                "rod",
+                Geometry::cuboid(Vec3::new(0.5, 0.01, 0.01)).unwrap(),
+                Vec3::new(-1.0, 0.0, 0.0),
+                1.0,
+                Vec3::new(1e-4, 0.083, 0.083),
+            );
+            b.angular_velocity = Vec3::new(0.0, 0.0, 40.0);
+            b
+        } else {
+            body(
+                "ball",
+                Geometry::sphere(0.05).unwrap(),
+                Vec3::new(-1.0, 0.0, 0.0),
+            )
+        };
+        b.velocity = Vec3::new(200.0, 0.0, 0.0);
+        s.bodies.push(b);
+        s.obstacles.push(testkit::obstacle(
+            "wall",
+            Geometry::cuboid(Vec3::new(0.005, 1.0, 1.0)).unwrap(),
+            Vec3::new(1.0, 0.0, 0.0),
+        ));
+        let tr = run(&s);
+        tr.events
+            .first()
+            .map(|e| e.t)
+            .expect("the wall is hit, not passed")
+    };
+    for rod in [false, true] {
+        let times: Vec<f64> = [1e-3, 1e-2, 1e-1]
+            .iter()
+            .map(|&h| first_contact(rod, h))
+            .collect();
+        for t in &times[1..] {
+            assert!((t - times[0]).abs() < 1e-9, "rod={rod}: {times:?}");
+        }
+    }
+    // The sphere's contact time is exact: gap 2 − 0.05 − 0.005 at 200 m/s.
+    assert!((first_contact(false, 1e-1) - (2.0 - 0.055) / 200.0).abs() < 1e-12);
+}

@@ -229,7 +229,10 @@ pub(crate) fn print_jacobian(
         .collect();
     let slow: Vec<String> = ok
         .iter()
-        .filter(|(_, s)| !(s.central.ms / s.tangent.ms >= 10.0))
+        .filter(|(_, s)| {
+            let r = s.central.ms / s.tangent.ms;
+            r.is_nan() || r < 10.0
+        })
         .map(|(n, s)| format!("{n} {}", ratio(s.central.ms / s.tangent.ms)))
         .collect();
     writeln!(
@@ -246,7 +249,7 @@ pub(crate) fn print_jacobian(
     let single: Vec<&(&str, &Study)> = ok.iter().filter(|(_, s)| s.bodies == 1).collect();
     let over: Vec<String> = single
         .iter()
-        .filter(|(_, s)| !(s.tangent.ms < 1.0))
+        .filter(|(_, s)| s.tangent.ms.is_nan() || s.tangent.ms >= 1.0)
         .map(|(n, s)| format!("{n} {} ms", ms(s.tangent.ms)))
         .collect();
     writeln!(

@@ -65,9 +65,9 @@ impl Table {
         }
         let line = |cells: &[String], upto: usize| -> String {
             let mut s = String::from(" ");
-            for k in 0..upto {
+            for (k, w) in widths.iter().enumerate().take(upto) {
                 let c = cells.get(k).map(String::as_str).unwrap_or(MISSING);
-                let pad = " ".repeat(widths[k].saturating_sub(width(c)));
+                let pad = " ".repeat(w.saturating_sub(width(c)));
                 s.push(' ');
                 match self.headers[k].1 {
                     Align::Left => {

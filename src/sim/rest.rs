@@ -75,8 +75,10 @@ pub struct Slide {
     pub spin_decel: f64,
 }
 
-/// How an impact against an obstacle ends.
+/// How an impact against an obstacle ends. (Short-lived, one per impact:
+/// the size of the sliding variant does not matter.)
 #[derive(Debug, Clone, PartialEq)]
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Mode {
     /// Keep bouncing (a separation slower than `v_r` makes it a
     /// micro-collision).
@@ -507,10 +509,7 @@ mod tests {
             (false, true)
         );
         // A diagonal of the square (three corners) still holds the centre.
-        assert_eq!(
-            over_hull(&sq[..3], &Vec3::zeros(), &Vec3::z(), 1e-9).0,
-            true
-        );
+        assert!(over_hull(&sq[..3], &Vec3::zeros(), &Vec3::z(), 1e-9).0);
         // An edge does not hold a centre off it; a single point holds only itself.
         assert_eq!(
             over_hull(&sq[..2], &Vec3::zeros(), &Vec3::z(), 1e-9),

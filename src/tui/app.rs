@@ -685,7 +685,7 @@ impl App {
         // tolerance); remember them so a `:set` changes only what it names.
         self.remember(view.accuracy.method);
         self.root_tol = view.accuracy.root_tol;
-        let current = Some(view.accuracy.method);
+        let current = view.accuracy.method;
         let accuracy = |app: &App, method: Method| Accuracy {
             method,
             root_tol: app.root_tol,
@@ -727,9 +727,7 @@ impl App {
                 self.apply(core, Edit::SetAccuracy(accuracy(self, method)));
             }
             Command::SetRootTol(root_tol) => {
-                let method = current.unwrap_or(Method::Rk4 {
-                    step: self.rk4_step,
-                });
+                let method = current;
                 if self
                     .apply(core, Edit::SetAccuracy(Accuracy { method, root_tol }))
                     .is_some()
@@ -862,25 +860,6 @@ pub fn ladder_up(v: f64) -> f64 {
 pub fn ladder_down(v: f64) -> f64 {
     let v = ladder(v);
     ladder((v / 1.9).max(STEP_RANGE.0))
-}
-
-/// The method an accuracy label (`rk4 h=1e-3`, `dopri5 tol=1e-9`) stands for.
-pub fn parse_accuracy_label(label: &str, max_step: f64) -> Option<Method> {
-    let (name, value) = label.trim().split_once(' ')?;
-    let number = |key: &str| -> Option<f64> {
-        let v: f64 = value.strip_prefix(key)?.parse().ok()?;
-        (v.is_finite() && v > 0.0).then_some(v)
-    };
-    match name {
-        "rk4" => Some(Method::Rk4 {
-            step: number("h=")?,
-        }),
-        "dopri5" | "adaptive" => Some(Method::Adaptive {
-            tol: number("tol=")?,
-            max_step,
-        }),
-        _ => None,
-    }
 }
 
 #[cfg(test)]
@@ -1092,23 +1071,6 @@ mod tests {
         assert_eq!(seen, [2.0, 5.0, 10.0]);
         assert!((ladder_down(0.1) - 0.05).abs() < 1e-15);
         assert!(ladder_up(1e9) <= 1e9 && ladder_down(1e-9) >= 1e-9);
-    }
-
-    #[test]
-    fn accuracy_labels_parse() {
-        assert_eq!(
-            parse_accuracy_label("rk4 h=1e-3", 0.01),
-            Some(Method::Rk4 { step: 1e-3 })
-        );
-        assert_eq!(
-            parse_accuracy_label("dopri5 tol=1e-9", 0.01),
-            Some(Method::Adaptive {
-                tol: 1e-9,
-                max_step: 0.01
-            })
-        );
-        assert_eq!(parse_accuracy_label("rk4 h=NaN", 0.01), None);
-        assert_eq!(parse_accuracy_label("", 0.01), None);
     }
 
     #[test]
