@@ -23,7 +23,7 @@ mod trajectory;
 pub use dynamics::BodyDynamics;
 pub use flight::{Translation, translation};
 pub use impulse::{ImpulseCtx, ImpulseResult};
-pub use integrator::euler_rhs;
+pub use integrator::{euler_rhs, free_rotation};
 pub use rest::Slide;
 pub use run::{SimError, SimOptions, simulate};
 pub use state::{BodyState, StateSide};

@@ -190,6 +190,7 @@ impl World<'_> {
     /// point can cross before the returned time — far larger than the
     /// speed-bound step when a body separates slowly after a bounce, or
     /// spins fast.
+    #[allow(clippy::too_many_arguments)]
     fn plane_step(
         &self,
         pair: &Pair,
@@ -258,6 +259,12 @@ impl World<'_> {
         // below `lvl` but rising, its next descent (the later root).
         let first_cross = |h: f64, hd: f64, c: f64, lvl: f64| -> f64 {
             let h = h - lvl;
+            if h <= 0.0 && hd >= 0.0 && c >= 0.0 {
+                // Below the level but its bound never falls: it cannot get
+                // deeper than it is (a point sliding along a surface it
+                // touches, without gravity).
+                return f64::INFINITY;
+            }
             if h <= 0.0 && hd <= 0.0 {
                 return 0.0;
             }
@@ -352,7 +359,7 @@ impl World<'_> {
                     let min_a = ha.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
                     let min_b = hb.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
                     let spare = 0.5 * (min_a + min_b - level);
-                    if !(spare > 0.0) {
+                    if spare.is_nan() || spare <= 0.0 {
                         return Some(0.0);
                     }
                     for &(h, hd, acc) in &ha {
@@ -548,6 +555,15 @@ impl World<'_> {
                 // separation after an impulse): the global speed bound would
                 // crawl here for thousands of steps; the per-point bound says
                 // no point sinks below the skin before `tp`. Stay disarmed.
+                tau = tp;
+            } else if e <= hit
+                && rate < 0.0
+                && let Some(tp) = self.plane_step(pair, &sa, &sb, skin - tol.root, reach, t, rem)
+                && tp > tau
+            {
+                // Approaching inside the contact band, but too slowly for the
+                // speed bound (a grazing contact): step to the earliest time
+                // the gap could reach the root tolerance.
                 tau = tp;
             }
             t += tau.max(f64::EPSILON * t.abs().max(1.0));

@@ -101,11 +101,37 @@ const DOPRI5: Tableau = Tableau {
         &[0.2],
         &[3.0 / 40.0, 9.0 / 40.0],
         &[44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0],
-        &[19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0],
-        &[9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0],
-        &[35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+        &[
+            19372.0 / 6561.0,
+            -25360.0 / 2187.0,
+            64448.0 / 6561.0,
+            -212.0 / 729.0,
+        ],
+        &[
+            9017.0 / 3168.0,
+            -355.0 / 33.0,
+            46732.0 / 5247.0,
+            49.0 / 176.0,
+            -5103.0 / 18656.0,
+        ],
+        &[
+            35.0 / 384.0,
+            0.0,
+            500.0 / 1113.0,
+            125.0 / 192.0,
+            -2187.0 / 6784.0,
+            11.0 / 84.0,
+        ],
     ],
-    b: &[35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0],
+    b: &[
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+        0.0,
+    ],
     e: &[
         71.0 / 57600.0,
         0.0,
@@ -130,7 +156,13 @@ const DOPRI_D: [f64; 7] = [
 
 /// One step of an explicit RK method from `z0` (whose `θ` part is zero).
 /// Returns the end value and the stage derivatives.
-fn rk_step(tab: &Tableau, d: &BodyDynamics, z0: &[f64], h: f64, evals: &mut u64) -> (Vec<f64>, Vec<Vec<f64>>) {
+fn rk_step(
+    tab: &Tableau,
+    d: &BodyDynamics,
+    z0: &[f64],
+    h: f64,
+    evals: &mut u64,
+) -> (Vec<f64>, Vec<Vec<f64>>) {
     let n = z0.len();
     let s = tab.c.len();
     let mut k: Vec<Vec<f64>> = Vec::with_capacity(s);
@@ -180,23 +212,88 @@ pub struct Step {
 }
 
 /// Take one RK4 step.
-pub fn step_rk4(d: &BodyDynamics, t0: f64, q0: UnitQuaternion<f64>, z0: Vec<f64>, h: f64, evals: &mut u64) -> Step {
+pub fn step_rk4(
+    d: &BodyDynamics,
+    t0: f64,
+    q0: UnitQuaternion<f64>,
+    z0: Vec<f64>,
+    h: f64,
+    evals: &mut u64,
+) -> Step {
     let (z1, _) = rk_step(&RK4, d, &z0, h, evals);
-    Step { t0, h, q0, z0, z1, k: Vec::new(), adaptive: false }
+    Step {
+        t0,
+        h,
+        q0,
+        z0,
+        z1,
+        k: Vec::new(),
+        adaptive: false,
+    }
+}
+
+/// Torque-free rotation by `steps` fixed RK4 steps of `h` from orientation
+/// `q` and body-frame angular velocity `w`, exactly as the simulator takes
+/// them (step, Munthe-Kaas update and renormalisation of the quaternion,
+/// local rotation reset), without storing the steps: for long-run checks
+/// and benchmarks. `visit` sees the state after every step.
+pub fn free_rotation(
+    d: &BodyDynamics,
+    mut q: UnitQuaternion<f64>,
+    w: &Vec3,
+    h: f64,
+    steps: usize,
+    mut visit: impl FnMut(usize, &UnitQuaternion<f64>, &Vec3),
+) -> (UnitQuaternion<f64>, Vec3) {
+    let mut z = initial(w, false);
+    let mut evals = 0;
+    for k in 0..steps {
+        let step = step_rk4(d, k as f64 * h, q, z, h, &mut evals);
+        q = advance(&step.q0, &step.z1);
+        z = step.z1;
+        z[3..6].fill(0.0);
+        visit(k, &q, &body_rate(&z));
+    }
+    (q, body_rate(&z))
 }
 
 /// Try one Dormand–Prince step; returns the step and its scaled error norm
 /// (accept when ≤ 1). Error control uses the state (`w`, `θ`), not the tangent.
-pub fn step_dopri(d: &BodyDynamics, t0: f64, q0: UnitQuaternion<f64>, z0: Vec<f64>, h: f64, tol: f64, evals: &mut u64) -> (Step, f64) {
+pub fn step_dopri(
+    d: &BodyDynamics,
+    t0: f64,
+    q0: UnitQuaternion<f64>,
+    z0: Vec<f64>,
+    h: f64,
+    tol: f64,
+    evals: &mut u64,
+) -> (Step, f64) {
     let (z1, k) = rk_step(&DOPRI5, d, &z0, h, evals);
     let mut sum = 0.0;
     for i in 0..Z_STATE {
-        let err: f64 = DOPRI5.e.iter().zip(&k).map(|(e, ki)| e * ki[i]).sum::<f64>() * h;
+        let err: f64 = DOPRI5
+            .e
+            .iter()
+            .zip(&k)
+            .map(|(e, ki)| e * ki[i])
+            .sum::<f64>()
+            * h;
         let sc = tol + tol * z0[i].abs().max(z1[i].abs());
         sum += (err / sc) * (err / sc);
     }
     let norm = (sum / Z_STATE as f64).sqrt();
-    (Step { t0, h, q0, z0, z1, k, adaptive: true }, norm)
+    (
+        Step {
+            t0,
+            h,
+            q0,
+            z0,
+            z1,
+            k,
+            adaptive: true,
+        },
+        norm,
+    )
 }
 
 impl Step {
@@ -215,11 +312,22 @@ impl Step {
     /// As [`Step::at`] for the state part only (`w`, `θ`): the state does not
     /// depend on the tangent, so this gives the same numbers at a fraction of
     /// the cost (used by the event search).
-    pub fn at_state(&self, d: &BodyDynamics, t: f64, evals: &mut u64) -> (UnitQuaternion<f64>, Vec<f64>) {
+    pub fn at_state(
+        &self,
+        d: &BodyDynamics,
+        t: f64,
+        evals: &mut u64,
+    ) -> (UnitQuaternion<f64>, Vec<f64>) {
         self.at_len(d, t, evals, Z_STATE)
     }
 
-    fn at_len(&self, d: &BodyDynamics, t: f64, evals: &mut u64, n: usize) -> (UnitQuaternion<f64>, Vec<f64>) {
+    fn at_len(
+        &self,
+        d: &BodyDynamics,
+        t: f64,
+        evals: &mut u64,
+        n: usize,
+    ) -> (UnitQuaternion<f64>, Vec<f64>) {
         let n = n.min(self.z0.len());
         let tau = t - self.t0;
         if tau <= 0.0 {
@@ -238,7 +346,12 @@ impl Step {
                 let ydiff = y1 - y0;
                 let bspl = self.h * self.k[0][i] - ydiff;
                 let r4 = ydiff - self.h * self.k[6][i] - bspl;
-                let r5: f64 = self.h * DOPRI_D.iter().zip(&self.k).map(|(dd, kk)| dd * kk[i]).sum::<f64>();
+                let r5: f64 = self.h
+                    * DOPRI_D
+                        .iter()
+                        .zip(&self.k)
+                        .map(|(dd, kk)| dd * kk[i])
+                        .sum::<f64>();
                 *zi = y0 + s * (ydiff + s1 * (bspl + s * (r4 + s1 * r5)));
             }
             z
@@ -297,7 +410,9 @@ mod tests {
             wp[i] += h;
             let mut wm = w;
             wm[i] -= h;
-            let fd = (euler_rhs(&d.inertia, &d.inertia_inv, &wp) - euler_rhs(&d.inertia, &d.inertia_inv, &wm)) / (2.0 * h);
+            let fd = (euler_rhs(&d.inertia, &d.inertia_inv, &wp)
+                - euler_rhs(&d.inertia, &d.inertia_inv, &wm))
+                / (2.0 * h);
             let col = y.fixed_view::<3, 1>(3, 3 + i).into_owned();
             assert!((fd - col).norm() < 1e-8, "Df column {i}");
         }
@@ -310,7 +425,9 @@ mod tests {
                 x.inertia = Mat3::from_diagonal(&x.principal);
                 x.inertia_inv = x.inertia.try_inverse().unwrap();
             }
-            let fd = (euler_rhs(&p.inertia, &p.inertia_inv, &w) - euler_rhs(&m.inertia, &m.inertia_inv, &w)) / (2.0 * h);
+            let fd = (euler_rhs(&p.inertia, &p.inertia_inv, &w)
+                - euler_rhs(&m.inertia, &m.inertia_inv, &w))
+                / (2.0 * h);
             let col = y.fixed_view::<3, 1>(3, 6 + k).into_owned();
             assert!((fd - col).norm() < 1e-8, "∂f/∂I_{k}: {fd:?} vs {col:?}");
         }
@@ -322,14 +439,30 @@ mod tests {
         let d = top();
         let z0 = initial(&Vec3::new(0.3, 2.0, 0.1), false);
         let mut evals = 0;
-        let (st, err) = step_dopri(&d, 0.0, UnitQuaternion::identity(), z0.clone(), 0.05, 1e-9, &mut evals);
+        let (st, err) = step_dopri(
+            &d,
+            0.0,
+            UnitQuaternion::identity(),
+            z0.clone(),
+            0.05,
+            1e-9,
+            &mut evals,
+        );
         assert!(err.is_finite());
         let (_, zend) = st.at(&d, 0.05 - 1e-15, &mut evals);
         assert!((zend[0] - st.z1[0]).abs() < 1e-12);
         let (_, zmid) = st.at(&d, 0.02, &mut evals);
-        let (fresh, _) = step_dopri(&d, 0.0, UnitQuaternion::identity(), z0, 0.02, 1e-9, &mut evals);
-        for i in 0..6 {
-            assert!((zmid[i] - fresh.z1[i]).abs() < 1e-8, "component {i}");
+        let (fresh, _) = step_dopri(
+            &d,
+            0.0,
+            UnitQuaternion::identity(),
+            z0,
+            0.02,
+            1e-9,
+            &mut evals,
+        );
+        for (i, (a, b)) in zmid.iter().zip(&fresh.z1).take(6).enumerate() {
+            assert!((a - b).abs() < 1e-8, "component {i}");
         }
     }
 }
