@@ -8,13 +8,29 @@ use nalgebra::{Isometry3, Matrix3, RealField, Vector3, convert};
 pub enum SideFeature {
     /// A material point (a vertex, a centroid of several vertices, or a ball
     /// centre with `radius > 0`). `vertices` lists the hull vertices it stands for.
-    Point { p: Vec3, radius: f64, vertices: Vec<usize> },
+    Point {
+        p: Vec3,
+        radius: f64,
+        vertices: Vec<usize>,
+    },
     /// A material plane (a face, or a half-space) with outward `normal` through `point`.
-    Plane { normal: Vec3, point: Vec3, vertices: Vec<usize> },
+    Plane {
+        normal: Vec3,
+        point: Vec3,
+        vertices: Vec<usize>,
+    },
     /// A material line (an edge) through `point` along `dir`.
-    Line { point: Vec3, dir: Vec3, vertices: [usize; 2] },
+    Line {
+        point: Vec3,
+        dir: Vec3,
+        vertices: [usize; 2],
+    },
     /// A parabolic cylinder `z = −κ x²` placed at `frame` in the owner frame.
-    Parabola { frame: Isometry3<f64>, curvature: f64, foot_hint: f64 },
+    Parabola {
+        frame: Isometry3<f64>,
+        curvature: f64,
+        foot_hint: f64,
+    },
 }
 
 /// How two owners touch: one feature on each side plus the parts involved.
@@ -42,7 +58,10 @@ pub struct PoseT<T: RealField> {
 impl PoseT<f64> {
     /// From an isometry.
     pub fn from_isometry(iso: &Isometry3<f64>) -> Self {
-        PoseT { x: iso.translation.vector, r: *iso.rotation.to_rotation_matrix().matrix() }
+        PoseT {
+            x: iso.translation.vector,
+            r: *iso.rotation.to_rotation_matrix().matrix(),
+        }
     }
 }
 
@@ -74,23 +93,51 @@ fn world_dir<T: RealField>(pose: &PoseT<T>, d: &Vec3) -> Vector3<T> {
 fn side(g: &Geometry, part: usize, pose: &Isometry3<f64>, towards: &Vec3) -> SideFeature {
     let p = &g.parts[part];
     match &p.kind {
-        PartKind::Ball { radius } => SideFeature::Point { p: p.offset.translation.vector, radius: *radius, vertices: Vec::new() },
-        PartKind::HalfSpace { normal } => {
-            SideFeature::Plane { normal: p.offset.rotation * normal, point: p.offset.translation.vector, vertices: Vec::new() }
-        }
-        PartKind::Parabola { curvature, .. } => SideFeature::Parabola { frame: p.offset, curvature: *curvature, foot_hint: 0.0 },
+        PartKind::Ball { radius } => SideFeature::Point {
+            p: p.offset.translation.vector,
+            radius: *radius,
+            vertices: Vec::new(),
+        },
+        PartKind::HalfSpace { normal } => SideFeature::Plane {
+            normal: p.offset.rotation * normal,
+            point: p.offset.translation.vector,
+            vertices: Vec::new(),
+        },
+        PartKind::Parabola { curvature, .. } => SideFeature::Parabola {
+            frame: p.offset,
+            curvature: *curvature,
+            foot_hint: 0.0,
+        },
         PartKind::Convex { .. } => {
             let d = pose.rotation.inverse() * towards;
             let verts = p.vertices();
             let reach = verts.iter().map(|v| v.norm()).fold(1.0, f64::max);
             let tol = 1e-9 * reach;
-            let max = verts.iter().map(|v| v.dot(&d)).fold(f64::NEG_INFINITY, f64::max);
-            let support: Vec<usize> = (0..verts.len()).filter(|&i| verts[i].dot(&d) >= max - tol).collect();
-            let centroid = support.iter().map(|&i| verts[i]).sum::<Vec3>() / support.len().max(1) as f64;
+            let max = verts
+                .iter()
+                .map(|v| v.dot(&d))
+                .fold(f64::NEG_INFINITY, f64::max);
+            let support: Vec<usize> = (0..verts.len())
+                .filter(|&i| verts[i].dot(&d) >= max - tol)
+                .collect();
+            let centroid =
+                support.iter().map(|&i| verts[i]).sum::<Vec3>() / support.len().max(1) as f64;
             match support.len() {
-                1 => SideFeature::Point { p: verts[support[0]], radius: 0.0, vertices: support },
-                2 => SideFeature::Line { point: verts[support[0]], dir: verts[support[1]] - verts[support[0]], vertices: [support[0], support[1]] },
-                _ => SideFeature::Plane { normal: d.normalize(), point: centroid, vertices: support },
+                1 => SideFeature::Point {
+                    p: verts[support[0]],
+                    radius: 0.0,
+                    vertices: support,
+                },
+                2 => SideFeature::Line {
+                    point: verts[support[0]],
+                    dir: verts[support[1]] - verts[support[0]],
+                    vertices: [support[0], support[1]],
+                },
+                _ => SideFeature::Plane {
+                    normal: d.normalize(),
+                    point: centroid,
+                    vertices: support,
+                },
             }
         }
     }
@@ -99,21 +146,46 @@ fn side(g: &Geometry, part: usize, pose: &Isometry3<f64>, towards: &Vec3) -> Sid
 /// Reduce a feature to a material point (its centroid).
 fn as_point(f: &SideFeature) -> SideFeature {
     match f {
-        SideFeature::Line { point, dir, vertices } => {
-            SideFeature::Point { p: point + dir * 0.5, radius: 0.0, vertices: vertices.to_vec() }
-        }
-        SideFeature::Plane { point, vertices, .. } => SideFeature::Point { p: *point, radius: 0.0, vertices: vertices.clone() },
+        SideFeature::Line {
+            point,
+            dir,
+            vertices,
+        } => SideFeature::Point {
+            p: point + dir * 0.5,
+            radius: 0.0,
+            vertices: vertices.to_vec(),
+        },
+        SideFeature::Plane {
+            point, vertices, ..
+        } => SideFeature::Point {
+            p: *point,
+            radius: 0.0,
+            vertices: vertices.clone(),
+        },
         other => other.clone(),
     }
 }
 
 impl FeaturePair {
     /// Name the touching features of a contact found by [`super::contact`].
-    pub fn classify(a: &Geometry, pose_a: &Isometry3<f64>, b: &Geometry, pose_b: &Isometry3<f64>, c: &Contact) -> FeaturePair {
+    pub fn classify(
+        a: &Geometry,
+        pose_a: &Isometry3<f64>,
+        b: &Geometry,
+        pose_b: &Isometry3<f64>,
+        c: &Contact,
+    ) -> FeaturePair {
         let fa = side(a, c.part_a, pose_a, &-c.normal);
         let mut fb = side(b, c.part_b, pose_b, &c.normal);
-        if let SideFeature::Parabola { frame, curvature, foot_hint } = &mut fb {
-            let local = (pose_b * *frame).inverse_transform_point(&c.point_b.into()).coords;
+        if let SideFeature::Parabola {
+            frame,
+            curvature,
+            foot_hint,
+        } = &mut fb
+        {
+            let local = (pose_b * *frame)
+                .inverse_transform_point(&c.point_b.into())
+                .coords;
             *foot_hint = point_parabola(*curvature, local.x, local.z);
         }
         let mut sign = 1.0;
@@ -129,15 +201,34 @@ impl FeaturePair {
                     // Parallel edges touch along a segment: a plane through b's
                     // edge with the contact normal, against a's edge midpoint.
                     let n_local = pose_b.rotation.inverse() * c.normal;
-                    (as_point(&fa), SideFeature::Plane { normal: n_local, point: *point, vertices: Vec::new() })
+                    (
+                        as_point(&fa),
+                        SideFeature::Plane {
+                            normal: n_local,
+                            point: *point,
+                            vertices: Vec::new(),
+                        },
+                    )
                 }
             }
-            (SideFeature::Plane { vertices, .. }, SideFeature::Plane { .. }) if vertices.is_empty() => (fa, as_point(&fb)),
-            (_, SideFeature::Plane { .. }) | (_, SideFeature::Parabola { .. }) => (as_point(&fa), fb),
+            (SideFeature::Plane { vertices, .. }, SideFeature::Plane { .. })
+                if vertices.is_empty() =>
+            {
+                (fa, as_point(&fb))
+            }
+            (_, SideFeature::Plane { .. }) | (_, SideFeature::Parabola { .. }) => {
+                (as_point(&fa), fb)
+            }
             (SideFeature::Plane { .. }, _) => (fa, as_point(&fb)),
             _ => (as_point(&fa), fb),
         };
-        FeaturePair { a: fa, b: fb, part_a: c.part_a, part_b: c.part_b, sign }
+        FeaturePair {
+            a: fa,
+            b: fb,
+            part_a: c.part_a,
+            part_b: c.part_b,
+            sign,
+        }
     }
 
     /// A short stable name of the touching features, part of the motion's
@@ -145,22 +236,44 @@ impl FeaturePair {
     pub fn key(&self) -> String {
         fn name(f: &SideFeature) -> String {
             match f {
-                SideFeature::Point { radius, vertices, .. } if *radius > 0.0 => {
+                SideFeature::Point {
+                    radius, vertices, ..
+                } if *radius > 0.0 => {
                     let _ = vertices;
                     "ball".to_string()
                 }
                 SideFeature::Point { vertices, .. } => {
-                    format!("v{}", vertices.iter().map(|v| v.to_string()).collect::<Vec<_>>().join("+"))
+                    format!(
+                        "v{}",
+                        vertices
+                            .iter()
+                            .map(|v| v.to_string())
+                            .collect::<Vec<_>>()
+                            .join("+")
+                    )
                 }
                 SideFeature::Plane { vertices, .. } if vertices.is_empty() => "plane".to_string(),
                 SideFeature::Plane { vertices, .. } => {
-                    format!("f{}", vertices.iter().map(|v| v.to_string()).collect::<Vec<_>>().join("-"))
+                    format!(
+                        "f{}",
+                        vertices
+                            .iter()
+                            .map(|v| v.to_string())
+                            .collect::<Vec<_>>()
+                            .join("-")
+                    )
                 }
                 SideFeature::Line { vertices, .. } => format!("e{}-{}", vertices[0], vertices[1]),
                 SideFeature::Parabola { .. } => "parabola".to_string(),
             }
         }
-        format!("{}:{}/{}:{}", self.part_a, name(&self.a), self.part_b, name(&self.b))
+        format!(
+            "{}:{}/{}:{}",
+            self.part_a,
+            name(&self.a),
+            self.part_b,
+            name(&self.b)
+        )
     }
 
     /// Number of hull vertices touching at once (more than one means a
@@ -187,7 +300,12 @@ impl FeaturePair {
                 let e = n.dot(&(&c - &q)) - rho.clone();
                 let point_a = &c - &n * rho.clone();
                 let point_b = &c - &n * (e.clone() + rho);
-                ContactGeometry { distance: e, normal: n, point_a, point_b }
+                ContactGeometry {
+                    distance: e,
+                    normal: n,
+                    point_a,
+                    point_b,
+                }
             }
             (Plane { normal, point, .. }, Point { p, radius, .. }) => {
                 let c = world_point(pb, p);
@@ -197,9 +315,21 @@ impl FeaturePair {
                 let e = m.dot(&(&c - &q)) - rho.clone();
                 let point_b = &c - &m * rho.clone();
                 let point_a = &c - &m * (e.clone() + rho);
-                ContactGeometry { distance: e, normal: -m, point_a, point_b }
+                ContactGeometry {
+                    distance: e,
+                    normal: -m,
+                    point_a,
+                    point_b,
+                }
             }
-            (Point { p: p1, radius: r1, .. }, Point { p: p2, radius: r2, .. }) => {
+            (
+                Point {
+                    p: p1, radius: r1, ..
+                },
+                Point {
+                    p: p2, radius: r2, ..
+                },
+            ) => {
                 let ca = world_point(pa, p1);
                 let cb = world_point(pb, p2);
                 let d = &ca - &cb;
@@ -208,7 +338,12 @@ impl FeaturePair {
                 let (ra, rb): (T, T) = (convert(*r1), convert(*r2));
                 let point_a = &ca - &n * ra.clone();
                 let point_b = &cb + &n * rb.clone();
-                ContactGeometry { distance: len - ra - rb, normal: n, point_a, point_b }
+                ContactGeometry {
+                    distance: len - ra - rb,
+                    normal: n,
+                    point_a,
+                    point_b,
+                }
             }
             (Point { p, radius, .. }, Line { point, dir, .. }) => {
                 let c = world_point(pa, p);
@@ -220,7 +355,12 @@ impl FeaturePair {
                 let n = w / len.clone();
                 let rho: T = convert(*radius);
                 let point_a = &c - &n * rho.clone();
-                ContactGeometry { distance: len - rho, normal: n, point_a, point_b: foot }
+                ContactGeometry {
+                    distance: len - rho,
+                    normal: n,
+                    point_a,
+                    point_b: foot,
+                }
             }
             (Line { point, dir, .. }, Point { p, radius, .. }) => {
                 let c = world_point(pb, p);
@@ -232,9 +372,21 @@ impl FeaturePair {
                 let n = w / len.clone();
                 let rho: T = convert(*radius);
                 let point_b = &c + &n * rho.clone();
-                ContactGeometry { distance: len - rho, normal: n, point_a: foot, point_b }
+                ContactGeometry {
+                    distance: len - rho,
+                    normal: n,
+                    point_a: foot,
+                    point_b,
+                }
             }
-            (Line { point: p1, dir: d1, .. }, Line { point: p2, dir: d2, .. }) => {
+            (
+                Line {
+                    point: p1, dir: d1, ..
+                },
+                Line {
+                    point: p2, dir: d2, ..
+                },
+            ) => {
                 let qa = world_point(pa, p1);
                 let da = world_dir(pa, d1);
                 let qb = world_point(pb, p2);
@@ -247,12 +399,28 @@ impl FeaturePair {
                 let den = a.clone() * c.clone() - b.clone() * b.clone();
                 let s = (b.clone() * e.clone() - c * d.clone()) / den.clone();
                 let t = (a * e - b * d) / den;
-                ContactGeometry { distance: n.dot(&r), normal: n, point_a: &qa + &da * s, point_b: &qb + &db * t }
+                ContactGeometry {
+                    distance: n.dot(&r),
+                    normal: n,
+                    point_a: &qa + &da * s,
+                    point_b: &qb + &db * t,
+                }
             }
-            (Point { p, radius, .. }, Parabola { frame, curvature, foot_hint }) => {
+            (
+                Point { p, radius, .. },
+                Parabola {
+                    frame,
+                    curvature,
+                    foot_hint,
+                },
+            ) => {
                 // Parabola frame in world: pb ∘ frame.
                 let fr = cv::<T>(&frame.translation.vector);
-                let frot = frame.rotation.to_rotation_matrix().matrix().map(convert::<f64, T>);
+                let frot = frame
+                    .rotation
+                    .to_rotation_matrix()
+                    .matrix()
+                    .map(convert::<f64, T>);
                 let origin = &pb.x + &pb.r * fr;
                 let rot = &pb.r * frot;
                 let c = world_point(pa, p);
@@ -280,7 +448,12 @@ impl FeaturePair {
                 let n = &rot * n_local;
                 let rho: T = convert(*radius);
                 let foot_w = &origin + &rot * foot;
-                ContactGeometry { distance: len * sgn - rho.clone(), point_a: &c - &n * rho, normal: n, point_b: foot_w }
+                ContactGeometry {
+                    distance: len * sgn - rho.clone(),
+                    point_a: &c - &n * rho,
+                    normal: n,
+                    point_b: foot_w,
+                }
             }
             // `classify` never produces the remaining combinations; fall back
             // to the points' separation so the result stays finite.
@@ -290,7 +463,12 @@ impl FeaturePair {
                 let d = &ca - &cb;
                 let len = d.norm();
                 let n = &d / len.clone();
-                ContactGeometry { distance: len, normal: n, point_a: ca, point_b: cb }
+                ContactGeometry {
+                    distance: len,
+                    normal: n,
+                    point_a: ca,
+                    point_b: cb,
+                }
             }
         }
     }
@@ -323,18 +501,55 @@ mod tests {
         let ball = Geometry::sphere(0.25).unwrap();
         let hill = Geometry::parabola(0.8, 2.0).unwrap();
         let cases: Vec<(&Geometry, Isometry3<f64>, &Geometry, Isometry3<f64>)> = vec![
-            (&cube, pose(Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.3, 0.2, 0.1)), &ground, Isometry3::identity()),
-            (&cube, pose(Vec3::new(0.2, 0.1, 1.3), Vec3::new(0.7, -0.4, 0.3)), &cube, pose(Vec3::zeros(), Vec3::new(-0.2, 0.5, 0.9))),
-            (&ball, pose(Vec3::new(0.3, 0.0, 1.0), Vec3::zeros()), &cube, pose(Vec3::zeros(), Vec3::new(0.1, 0.2, 0.3))),
-            (&ball, pose(Vec3::new(0.4, 0.0, 1.0), Vec3::zeros()), &hill, Isometry3::identity()),
-            (&ball, pose(Vec3::new(0.4, 0.1, 1.0), Vec3::zeros()), &ball, pose(Vec3::new(0.0, 0.0, 0.2), Vec3::zeros())),
+            (
+                &cube,
+                pose(Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.3, 0.2, 0.1)),
+                &ground,
+                Isometry3::identity(),
+            ),
+            (
+                &cube,
+                pose(Vec3::new(0.2, 0.1, 1.3), Vec3::new(0.7, -0.4, 0.3)),
+                &cube,
+                pose(Vec3::zeros(), Vec3::new(-0.2, 0.5, 0.9)),
+            ),
+            (
+                &ball,
+                pose(Vec3::new(0.3, 0.0, 1.0), Vec3::zeros()),
+                &cube,
+                pose(Vec3::zeros(), Vec3::new(0.1, 0.2, 0.3)),
+            ),
+            (
+                &ball,
+                pose(Vec3::new(0.4, 0.0, 1.0), Vec3::zeros()),
+                &hill,
+                Isometry3::identity(),
+            ),
+            (
+                &ball,
+                pose(Vec3::new(0.4, 0.1, 1.0), Vec3::zeros()),
+                &ball,
+                pose(Vec3::new(0.0, 0.0, 0.2), Vec3::zeros()),
+            ),
         ];
         for (ga, pa, gb, pb) in cases {
             let c = contact(ga, &pa, gb, &pb, 100.0).unwrap();
             let f = FeaturePair::classify(ga, &pa, gb, &pb, &c);
             let e = f.evaluate(&PoseT::from_isometry(&pa), &PoseT::from_isometry(&pb));
-            assert!((e.distance - c.distance).abs() < 1e-9, "{}: {} vs {}", f.key(), e.distance, c.distance);
-            assert!((e.normal - c.normal).norm() < 1e-6, "{}: {:?} vs {:?}", f.key(), e.normal, c.normal);
+            assert!(
+                (e.distance - c.distance).abs() < 1e-9,
+                "{}: {} vs {}",
+                f.key(),
+                e.distance,
+                c.distance
+            );
+            assert!(
+                (e.normal - c.normal).norm() < 1e-6,
+                "{}: {:?} vs {:?}",
+                f.key(),
+                e.normal,
+                c.normal
+            );
         }
     }
 }

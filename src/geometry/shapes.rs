@@ -11,7 +11,9 @@ pub enum GeometryError {
     NonPositive { what: &'static str, value: f64 },
     /// The convex hull of the given points is degenerate (fewer than 4 points
     /// not all on one plane).
-    #[error("the convex hull of {count} points is flat or degenerate: give at least 4 points that are not all on one plane")]
+    #[error(
+        "the convex hull of {count} points is flat or degenerate: give at least 4 points that are not all on one plane"
+    )]
     DegenerateHull { count: usize },
     /// An ellipsoid resolution outside the supported range.
     #[error("resolution must be between 3 and 64, got {0}")]
@@ -36,7 +38,10 @@ pub struct Part {
 
 impl std::fmt::Debug for Part {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Part").field("kind", &self.kind).field("offset", &self.offset).finish()
+        f.debug_struct("Part")
+            .field("kind", &self.kind)
+            .field("offset", &self.offset)
+            .finish()
     }
 }
 
@@ -46,7 +51,10 @@ pub enum PartKind {
     /// A sphere centred at the piece origin.
     Ball { radius: f64 },
     /// A convex polyhedron: its vertices and hull edges (vertex index pairs).
-    Convex { vertices: Vec<Vec3>, edges: Vec<[usize; 2]> },
+    Convex {
+        vertices: Vec<Vec3>,
+        edges: Vec<[usize; 2]>,
+    },
     /// The half-space `n · p ≤ 0` (solid below the plane through the origin).
     HalfSpace { normal: Vec3 },
     /// The solid below the parabolic cylinder `z = −κ x²` (any `y`), drawn for `|x| ≤ half_width`.
@@ -117,7 +125,10 @@ impl Part {
             .map(|e| [e.vertices[0] as usize, e.vertices[1] as usize])
             .collect();
         Ok(Part {
-            kind: PartKind::Convex { vertices: verts, edges },
+            kind: PartKind::Convex {
+                vertices: verts,
+                edges,
+            },
             offset: Isometry3::identity(),
             shape: Some(SharedShape::new(hull)),
         })
@@ -126,9 +137,11 @@ impl Part {
     /// The piece's vertices in the owner's frame (empty for balls and unbounded pieces).
     pub fn vertices(&self) -> Vec<Vec3> {
         match &self.kind {
-            PartKind::Convex { vertices, .. } => {
-                vertices.iter().map(|v| self.offset * to_point(v)).map(|p| p.coords).collect()
-            }
+            PartKind::Convex { vertices, .. } => vertices
+                .iter()
+                .map(|v| self.offset * to_point(v))
+                .map(|p| p.coords)
+                .collect(),
             _ => Vec::new(),
         }
     }
@@ -138,9 +151,7 @@ impl Part {
     pub fn reach(&self) -> f64 {
         match &self.kind {
             PartKind::Ball { radius } => self.offset.translation.vector.norm() + radius,
-            PartKind::Convex { .. } => {
-                self.vertices().iter().map(|v| v.norm()).fold(0.0, f64::max)
-            }
+            PartKind::Convex { .. } => self.vertices().iter().map(|v| v.norm()).fold(0.0, f64::max),
             PartKind::HalfSpace { .. } | PartKind::Parabola { .. } => f64::INFINITY,
         }
     }
@@ -181,7 +192,10 @@ impl Geometry {
     /// The convex hull of the given points, m.
     pub fn convex_hull(points: &[Vec3]) -> Result<Geometry, GeometryError> {
         if points.iter().any(|p| !p.iter().all(|c| c.is_finite())) {
-            return Err(GeometryError::NonPositive { what: "point coordinate", value: f64::NAN });
+            return Err(GeometryError::NonPositive {
+                what: "point coordinate",
+                value: f64::NAN,
+            });
         }
         Ok(Geometry::single(Part::convex(points.to_vec())?))
     }
@@ -189,7 +203,11 @@ impl Geometry {
     /// A polyhedral ellipsoid: the hull of a latitude/longitude grid with
     /// `resolution` rings. With `bottom_scale != 1`, the lower half's vertical
     /// radius is scaled, which makes an egg (pointed when `< 1`... blunt when `> 1`).
-    pub fn ellipsoid(radii: Vec3, resolution: u32, bottom_scale: f64) -> Result<Geometry, GeometryError> {
+    pub fn ellipsoid(
+        radii: Vec3,
+        resolution: u32,
+        bottom_scale: f64,
+    ) -> Result<Geometry, GeometryError> {
         for r in radii.iter() {
             positive("radius", *r)?;
         }
@@ -199,7 +217,10 @@ impl Geometry {
         }
         let rings = resolution as usize;
         let segments = 2 * rings;
-        let mut points = vec![Vec3::new(0.0, 0.0, radii.z), Vec3::new(0.0, 0.0, -radii.z * bottom_scale)];
+        let mut points = vec![
+            Vec3::new(0.0, 0.0, radii.z),
+            Vec3::new(0.0, 0.0, -radii.z * bottom_scale),
+        ];
         for i in 1..rings {
             let polar = PI * i as f64 / rings as f64;
             let (sp, cp) = polar.sin_cos();
@@ -208,7 +229,11 @@ impl Geometry {
                 // Offset alternate rings so the mesh has no long flat strips.
                 let az = 2.0 * PI * (j as f64 + 0.5 * (i % 2) as f64) / segments as f64;
                 let (sa, ca) = az.sin_cos();
-                points.push(Vec3::new(radii.x * sp * ca, radii.y * sp * sa, radii.z * cp * zscale));
+                points.push(Vec3::new(
+                    radii.x * sp * ca,
+                    radii.y * sp * sa,
+                    radii.z * cp * zscale,
+                ));
             }
         }
         Geometry::convex_hull(&points)
@@ -233,7 +258,10 @@ impl Geometry {
     pub fn half_space(normal: Vec3) -> Result<Geometry, GeometryError> {
         let len = normal.norm();
         if !(len.is_finite() && len > 1e-12) {
-            return Err(GeometryError::NonPositive { what: "plane normal length", value: len });
+            return Err(GeometryError::NonPositive {
+                what: "plane normal length",
+                value: len,
+            });
         }
         let n = normal / len;
         Ok(Geometry::single(Part {
@@ -290,7 +318,10 @@ impl Geometry {
         let parts = self
             .parts
             .iter()
-            .map(|p| Part { offset: Isometry3::from_parts(shift, UnitQuaternion::identity()) * p.offset, ..p.clone() })
+            .map(|p| Part {
+                offset: Isometry3::from_parts(shift, UnitQuaternion::identity()) * p.offset,
+                ..p.clone()
+            })
             .collect();
         Geometry { parts }
     }
@@ -330,19 +361,28 @@ impl Geometry {
                     }
                 }
                 PartKind::HalfSpace { normal } => {
-                    let t1 = normal.cross(&Vec3::x()).try_normalize(1e-9).unwrap_or_else(|| normal.cross(&Vec3::y()).normalize());
+                    let t1 = normal
+                        .cross(&Vec3::x())
+                        .try_normalize(1e-9)
+                        .unwrap_or_else(|| normal.cross(&Vec3::y()).normalize());
                     let t2 = normal.cross(&t1);
                     let c = [t1 + t2, t1 - t2, -t1 - t2, -t1 + t2].map(|v| tf(v * extent));
                     for k in 0..4 {
                         out.push((c[k], c[(k + 1) % 4]));
                     }
                 }
-                PartKind::Parabola { curvature, half_width } => {
+                PartKind::Parabola {
+                    curvature,
+                    half_width,
+                } => {
                     let n = 32;
                     for k in 0..n {
                         let x0 = -half_width + 2.0 * half_width * k as f64 / n as f64;
                         let x1 = -half_width + 2.0 * half_width * (k + 1) as f64 / n as f64;
-                        out.push((tf(Vec3::new(x0, 0.0, -curvature * x0 * x0)), tf(Vec3::new(x1, 0.0, -curvature * x1 * x1))));
+                        out.push((
+                            tf(Vec3::new(x0, 0.0, -curvature * x0 * x0)),
+                            tf(Vec3::new(x1, 0.0, -curvature * x1 * x1)),
+                        ));
                     }
                 }
             }
@@ -376,7 +416,15 @@ mod tests {
 
     #[test]
     fn flat_hull_is_rejected() {
-        let pts = [Vec3::zeros(), Vec3::x(), Vec3::y(), Vec3::new(1.0, 1.0, 0.0)];
-        assert!(matches!(Geometry::convex_hull(&pts), Err(GeometryError::DegenerateHull { .. })));
+        let pts = [
+            Vec3::zeros(),
+            Vec3::x(),
+            Vec3::y(),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        assert!(matches!(
+            Geometry::convex_hull(&pts),
+            Err(GeometryError::DegenerateHull { .. })
+        ));
     }
 }

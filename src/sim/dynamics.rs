@@ -77,6 +77,11 @@ impl BodyDynamics {
 
     /// `F(q)` in tangent coordinates: `(ẋ, θ̇, v̇, ω̇) = (v, ω, a, α)`.
     pub fn state_derivative(&self, s: &BodyState, g: &Vec3) -> [Vec3; 4] {
-        [s.v, s.w, self.linear_acceleration(s, g), self.angular_acceleration(s)]
+        [
+            s.v,
+            s.w,
+            self.linear_acceleration(s, g),
+            self.angular_acceleration(s),
+        ]
     }
 }

@@ -38,7 +38,13 @@ fn drag_coefficients(k: f64, tau: f64) -> (f64, f64, f64, f64, f64) {
             f1 *= (n + 2) as f64;
             f2 *= (n + 3) as f64;
         }
-        (e, tau * p1, tau * tau * p2, tau * tau * d1, tau * tau * tau * d2)
+        (
+            e,
+            tau * p1,
+            tau * tau * p2,
+            tau * tau * d1,
+            tau * tau * tau * d2,
+        )
     } else {
         let p1 = -(-kt).exp_m1() / k;
         let p2 = (tau - p1) / k;
@@ -81,8 +87,17 @@ mod tests {
     #[test]
     fn ballistic_flight_matches_the_closed_form() {
         let g = Vec3::new(0.0, 0.0, -9.81);
-        let t = translation(&Vec3::new(1.0, 2.0, 3.0), &Vec3::new(0.5, -1.0, 4.0), &g, None, 0.7);
-        assert_eq!(t.x, Vec3::new(1.0 + 0.35, 2.0 - 0.7, 3.0 + 2.8 - 0.5 * 9.81 * 0.49));
+        let t = translation(
+            &Vec3::new(1.0, 2.0, 3.0),
+            &Vec3::new(0.5, -1.0, 4.0),
+            &g,
+            None,
+            0.7,
+        );
+        assert_eq!(
+            t.x,
+            Vec3::new(1.0 + 0.35, 2.0 - 0.7, 3.0 + 2.8 - 0.5 * 9.81 * 0.49)
+        );
         assert_eq!(t.v, Vec3::new(0.5, -1.0, 4.0 - 9.81 * 0.7));
     }
 
@@ -105,8 +120,15 @@ mod tests {
                 let m = translation(&x0, &v0, &g, Some(k - hk), tau);
                 let fdx = (p.x - m.x) / (2.0 * hk);
                 let fdv = (p.v - m.v) / (2.0 * hk);
-                assert!((fdx - a.dx_dk).norm() < 1e-6 * (1.0 + fdx.norm()), "k={k} τ={tau}: {fdx:?} vs {:?}", a.dx_dk);
-                assert!((fdv - a.dv_dk).norm() < 1e-6 * (1.0 + fdv.norm()), "k={k} τ={tau}");
+                assert!(
+                    (fdx - a.dx_dk).norm() < 1e-6 * (1.0 + fdx.norm()),
+                    "k={k} τ={tau}: {fdx:?} vs {:?}",
+                    a.dx_dk
+                );
+                assert!(
+                    (fdv - a.dv_dk).norm() < 1e-6 * (1.0 + fdv.norm()),
+                    "k={k} τ={tau}"
+                );
             }
         }
     }
@@ -114,7 +136,13 @@ mod tests {
     #[test]
     fn tiny_drag_tends_to_ballistic() {
         let g = Vec3::new(0.0, 0.0, -9.81);
-        let a = translation(&Vec3::zeros(), &Vec3::new(1.0, 0.0, 5.0), &g, Some(1e-12), 1.0);
+        let a = translation(
+            &Vec3::zeros(),
+            &Vec3::new(1.0, 0.0, 5.0),
+            &g,
+            Some(1e-12),
+            1.0,
+        );
         let b = translation(&Vec3::zeros(), &Vec3::new(1.0, 0.0, 5.0), &g, None, 1.0);
         assert!((a.x - b.x).norm() < 1e-10);
     }

@@ -27,7 +27,11 @@ impl BodyState {
 
     /// Whether every number is finite.
     pub fn is_finite(&self) -> bool {
-        self.x.iter().chain(self.v.iter()).chain(self.w.iter()).all(|v| v.is_finite())
+        self.x
+            .iter()
+            .chain(self.v.iter())
+            .chain(self.w.iter())
+            .all(|v| v.is_finite())
             && self.q.coords.iter().all(|v| v.is_finite())
     }
 
