@@ -3,6 +3,7 @@
 //! named after the failure they caught, with what used to break.
 //!
 //! Scenes live in `tests/hard/*.toml`; sweeps load one and vary it.
+#![allow(clippy::type_complexity)] // table-driven cases list tuples of closures
 
 use nudge::controls::Controls;
 use nudge::geometry::PartKind;
