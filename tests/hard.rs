@@ -1131,14 +1131,12 @@ fn full_condition(s: &Scene, t: f64) -> f64 {
     if lo > 0.0 { hi / lo } else { f64::INFINITY }
 }
 
-/// The solver's rank-revealing solve drops the directions of `C M⁻¹ Cᵀ`
-/// below 1e-12 of its largest eigenvalue and reports the condition number
-/// of what is left, which is then small: at the chaotic horizon (true
-/// condition 1e14 and more) no `IllConditioned` diagnostic reaches the
-/// user. Needs `solve::kkt`/`update` to report the full condition number
-/// (or the dropped directions) — outside this suite's files.
+/// Regression: the rank-revealing solve drops the directions of `C M⁻¹ Cᵀ`
+/// below 1e-12 of its largest eigenvalue and used to report the condition
+/// number of what was left, which is small: at the chaotic horizon (true
+/// condition 1e14 and more) no `IllConditioned` diagnostic reached the
+/// user. It now reports the condition of the whole system.
 #[test]
-#[ignore = "src/solve/update.rs reports the condition over the kept directions only"]
 fn a_chaotic_horizon_is_reported_as_ill_conditioned() {
     use nudge::scene::StateQuantity;
     use nudge::solve::{Anchor, Constraint, Diagnostic, Kind, UpdateOptions, update};

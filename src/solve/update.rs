@@ -147,7 +147,8 @@ pub fn residual_norm(traj: &Trajectory, constraints: &[Constraint]) -> f64 {
 
 /// Solve `min ½ δuᵀMδu + dᵀδu s.t. Cδu = r` via the rank-revealing
 /// eigendecomposition of `A = C M⁻¹ Cᵀ`. Returns `δu`, the condition number
-/// of `A` over the kept directions, and the unsatisfiable part of `r`.
+/// of `A` (over all its directions, `∞` when singular), and the
+/// unsatisfiable part of `r`.
 pub fn kkt(
     c: &DMatrix<f64>,
     r: &DVector<f64>,
@@ -168,20 +169,27 @@ pub fn kkt(
             let max = (0..k).map(|i| s[i].abs()).fold(0.0, f64::max);
             let cut = max * rank_tol.max(f64::EPSILON * k as f64);
             let mut lambda = DVector::zeros(k);
-            let mut min_kept = f64::INFINITY;
             for i in 0..k {
                 if s[i] > cut {
-                    min_kept = min_kept.min(s[i]);
                     let coef: f64 = (0..k).map(|j| u[(j, i)] * b[j]).sum::<f64>() / s[i];
                     for j in 0..k {
                         lambda[j] += coef * u[(j, i)];
                     }
                 }
             }
+            // The condition of the whole system, dropped directions
+            // included: that is what tells the user the constraints are
+            // (nearly) dependent or the horizon chaotic.
+            // Eigenvalues below round-off (or slightly negative from it)
+            // count as ε·max, so a singular system reports ~1/ε.
+            let min_all = (0..k)
+                .map(|i| s[i])
+                .fold(f64::INFINITY, f64::min)
+                .max(max * f64::EPSILON);
             (
                 lambda,
-                if min_kept.is_finite() && min_kept > 0.0 {
-                    max / min_kept
+                if max > 0.0 {
+                    max / min_all
                 } else {
                     f64::INFINITY
                 },
