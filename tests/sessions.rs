@@ -1,0 +1,401 @@
+//! The paper's examples as editing sessions (Popović et al. 2000, §3.2, §5
+//! and §6, Figure 5): each `tests/sessions/<scene>.keys` is typed into the
+//! real binary (`nudge run scenes/<scene>.toml --keys ...`) and the goal of
+//! the edit is checked geometrically on the JSON report: where the bodies
+//! end, how they are tilted, which collisions happened, that every
+//! constraint holds to 1e-6 and that the surface controls stay physical
+//! (restitution in [0, 1], normals within 30° of the geometric normal).
+//!
+//! The sessions are deterministic (no wall clock decides anything: every
+//! settle converges well inside its budget), so the same keys give the same
+//! motion in a debug and a release build.
+
+use nudge::controls::Controls;
+use nudge::sim::{SimOptions, StateSide, simulate};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// What a replayed session left behind.
+struct Session {
+    report: Value,
+    /// The final screen (the status line has `pop N blk M`).
+    screen: String,
+    /// The working directory the session ran in (`:w name` saves here).
+    dir: PathBuf,
+}
+
+/// Replay `tests/sessions/<stem>.keys` on `scenes/<stem>.toml`.
+fn run(stem: &str) -> Session {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("nudge-session-{stem}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let out = Command::new(env!("CARGO_BIN_EXE_nudge"))
+        .current_dir(&dir)
+        .arg("run")
+        .arg(root.join("scenes").join(format!("{stem}.toml")))
+        .arg("--keys")
+        .arg(root.join("tests/sessions").join(format!("{stem}.keys")))
+        .args([
+            "--report",
+            "report.json",
+            "--screen",
+            "screen.txt",
+            "--size",
+            "100x30",
+        ])
+        .output()
+        .expect("runs nudge");
+    assert!(
+        out.status.success(),
+        "{stem}: nudge run failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("report.json")).expect("report written"),
+    )
+    .expect("report is JSON");
+    let screen = std::fs::read_to_string(dir.join("screen.txt")).expect("screen written");
+    Session {
+        report,
+        screen,
+        dir,
+    }
+}
+
+fn vec3(v: &Value) -> [f64; 3] {
+    let a = v.as_array().expect("a 3-vector");
+    [0, 1, 2].map(|i| a[i].as_f64().expect("a number"))
+}
+
+/// A body's final state: position, orientation (exp-map), velocity,
+/// angular velocity.
+fn final_state(r: &Value, body: &str) -> [[f64; 3]; 4] {
+    let b = r["bodies"]
+        .as_array()
+        .expect("bodies")
+        .iter()
+        .find(|b| b["name"] == body)
+        .unwrap_or_else(|| panic!("no body {body}"));
+    let f = &b["final"];
+    [
+        vec3(&f["position"]),
+        vec3(&f["orientation"]),
+        vec3(&f["velocity"]),
+        vec3(&f["angular_velocity"]),
+    ]
+}
+
+fn norm(v: [f64; 3]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// The body's z axis in the world for an exp-map orientation (Rodrigues).
+fn up_axis(r: [f64; 3]) -> [f64; 3] {
+    let th = norm(r);
+    if th < 1e-15 {
+        return [0.0, 0.0, 1.0];
+    }
+    let k = r.map(|x| x / th);
+    let (s, c) = th.sin_cos();
+    // R e_z = e_z cos θ + (k × e_z) sin θ + k (k · e_z)(1 − cos θ)
+    [
+        k[1] * s + k[0] * k[2] * (1.0 - c),
+        -k[0] * s + k[1] * k[2] * (1.0 - c),
+        c + k[2] * k[2] * (1.0 - c),
+    ]
+}
+
+/// Angle between a body's z axis and the vertical, degrees.
+fn tilt_deg(r: [f64; 3]) -> f64 {
+    up_axis(r)[2].clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+/// Every constraint of the session holds to 1e-6.
+fn assert_constraints_hold(stem: &str, r: &Value) {
+    for c in r["constraints"].as_array().expect("constraints") {
+        let res = c["residual"].as_f64().unwrap_or(f64::INFINITY);
+        assert!(res < 1e-6, "{stem}: constraint {c} has residual {res:e}");
+    }
+}
+
+/// Surface controls stay physical: restitution in [0, 1] (every event and
+/// every restitution control) and controlled normals within 30° of the
+/// geometric normal (deviation angle atan |(a, b)|).
+fn assert_plausible(stem: &str, r: &Value) {
+    for e in r["events"].as_array().expect("events") {
+        let k = e["restitution"].as_f64().expect("restitution");
+        assert!(
+            (0.0..=1.0).contains(&k),
+            "{stem}: event {e} has restitution {k}"
+        );
+    }
+    let controls = r["controls"].as_array().expect("controls");
+    let value = |name: &str| {
+        controls
+            .iter()
+            .find(|c| c["name"] == name)
+            .and_then(|c| c["value"].as_f64())
+    };
+    for c in controls {
+        let name = c["name"].as_str().unwrap_or_default();
+        if let Some(event) = name.strip_suffix(".restitution") {
+            let k = c["value"].as_f64().expect("a number");
+            assert!(
+                (0.0..=1.0).contains(&k),
+                "{stem}: {event} restitution {k} outside [0, 1]"
+            );
+        }
+        if let Some(event) = name.strip_suffix(".normal.a") {
+            let a = c["value"].as_f64().expect("a number");
+            let b = value(&format!("{event}.normal.b")).expect("normal.b beside normal.a");
+            let deviation = a.hypot(b).atan().to_degrees();
+            assert!(
+                deviation <= 30.0,
+                "{stem}: {event} normal deviates {deviation:.1}° (> 30°)"
+            );
+        }
+    }
+}
+
+/// `(pops, blocks)` from the status line (`pop N blk M`).
+fn pops_and_blocks(screen: &str) -> (usize, usize) {
+    let line = screen
+        .lines()
+        .rev()
+        .find(|l| l.contains(" pop ") && l.contains(" blk "))
+        .expect("a status line with pop/blk counts");
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let after = |w: &str| {
+        words
+            .iter()
+            .position(|x| *x == w)
+            .and_then(|i| words.get(i + 1))
+            .and_then(|n| n.parse().ok())
+            .expect("a count")
+    };
+    (after("pop"), after("blk"))
+}
+
+fn events_between<'a>(r: &'a Value, a: &str, b: &str) -> Vec<&'a Value> {
+    r["events"]
+        .as_array()
+        .expect("events")
+        .iter()
+        .filter(|e| (e["a"] == a && e["b"] == b) || (e["a"] == b && e["b"] == a))
+        .collect()
+}
+
+/// Paper Figure 5a: the eggs collide in the air, then each ends inside its
+/// own bucket (inside 0.5 m square, walls 0.32 m high, centred at x = ∓1.1).
+#[test]
+fn eggs_collide_in_the_air_and_land_in_their_buckets() {
+    let s = run("eggs");
+    let r = &s.report;
+    let hits = events_between(r, "egg1", "egg2");
+    assert!(!hits.is_empty(), "the eggs never collide");
+    let hit = hits[0];
+    assert!(
+        vec3(&hit["point"])[2] > 1.0,
+        "the eggs collide on the ground, not in the air: {hit}"
+    );
+    for (egg, bucket, cx) in [("egg1", "bucket_a", -1.1), ("egg2", "bucket_b", 1.1)] {
+        let [x, ..] = final_state(r, egg);
+        assert!(
+            (x[0] - cx).abs() < 0.25 && x[1].abs() < 0.25 && x[2] < 0.32,
+            "{egg} ends at {x:?}, not inside {bucket} (centre x = {cx})"
+        );
+        let first = r["events"]
+            .as_array()
+            .expect("events")
+            .iter()
+            .find(|e| e["a"] == egg && e["b"] != "egg1" && e["b"] != "egg2");
+        assert!(
+            first.is_some_and(|e| e["b"] == bucket),
+            "{egg} first lands on {first:?}, not in {bucket}"
+        );
+    }
+    assert_constraints_hold("eggs", r);
+    assert_plausible("eggs", r);
+}
+
+/// Paper Figure 5b: the pyramid still strikes the plank first, and the
+/// plank ends centred on the supports (midpoint x = 1.0, tops at z = 0.5)
+/// and flat (its up axis within 5° of vertical).
+#[test]
+fn plank_hits_the_pyramid_and_lands_flat_and_centred_on_the_supports() {
+    let s = run("plank");
+    let r = &s.report;
+    let first = &r["events"][0];
+    assert_eq!(
+        first["b"], "pyramid",
+        "the first collision is no longer the pyramid: {first}"
+    );
+    let [x, rot, ..] = final_state(r, "plank");
+    assert!(
+        (x[0] - 1.0).abs() < 0.03 && x[1].abs() < 0.03,
+        "plank centre {x:?} is not over the supports' midpoint (1, 0)"
+    );
+    assert!(
+        (x[2] - 0.53).abs() < 0.02,
+        "plank centre at z = {} is not lying on the supports (0.53)",
+        x[2]
+    );
+    let tilt = tilt_deg(rot);
+    assert!(tilt < 5.0, "plank tilted {tilt:.2}° at the end");
+    for support in ["support_left", "support_right"] {
+        assert!(
+            !events_between(r, "plank", support).is_empty(),
+            "the plank never touches {support}"
+        );
+    }
+    assert!(
+        events_between(r, "plank", "floor").is_empty(),
+        "the plank touches the floor"
+    );
+    assert_constraints_hold("plank", r);
+    assert_plausible("plank", r);
+}
+
+/// Paper Figure 5c, first half: with only the floor's normal and
+/// restitution controlled, the mug is upright (within 5°) at its 4th
+/// collision. The session saves the edited scene; re-simulating it gives
+/// the orientation just before that collision.
+#[test]
+fn mug_is_upright_at_its_fourth_bounce() {
+    let s = run("mug");
+    let r = &s.report;
+    assert_constraints_hold("mug", r);
+    assert_plausible("mug", r);
+    let floats: Vec<&Value> = r["constraints"]
+        .as_array()
+        .expect("constraints")
+        .iter()
+        .filter(|c| c["kind"] == "floating")
+        .collect();
+    assert_eq!(
+        floats.len(),
+        1,
+        "one floating constraint at the 4th collision: {floats:?}"
+    );
+    assert_eq!(floats[0]["at"], "hit#3 pre");
+    let scene =
+        nudge::scene::load(&s.dir.join("mug-edited.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let controls = Controls::new(&scene);
+    let traj = simulate(&scene, &controls, &SimOptions::default()).expect("simulates");
+    let fourth = traj.body_events(0)[3];
+    let q = traj.state(0, fourth.t, StateSide::Before).q;
+    let tilt = (q * nalgebra::Vector3::z())
+        .z
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees();
+    assert!(
+        tilt < 5.0,
+        "the mug is tilted {tilt:.2}° at its 4th collision (t = {:.4} s)",
+        fourth.t
+    );
+    assert!(
+        (fourth.t - r["events"][3]["t"].as_f64().expect("t")).abs() < 1e-9,
+        "the saved scene does not reproduce the session"
+    );
+}
+
+/// Paper Figure 5c, second half: zero angular velocity after the 4th
+/// bounce. Not reached with this mug: an upright mug lands on one corner of
+/// its base, and stopping its spin needs an impulse line through the centre
+/// of mass, i.e. a floor normal tilted about 38° (atan(4 cm / 5 cm)) minus
+/// what the incoming spin allows; the solver blocks near 30° (see the
+/// report of the session's author). Kept as the statement of the goal.
+#[test]
+#[ignore = "goal not reached: zero spin after the 4th bounce needs a floor normal tilted beyond 30° for this mug"]
+fn mug_stops_spinning_after_its_fourth_bounce() {
+    let s = run("mug");
+    let scene =
+        nudge::scene::load(&s.dir.join("mug-edited.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let controls = Controls::new(&scene);
+    let traj = simulate(&scene, &controls, &SimOptions::default()).expect("simulates");
+    let fourth = traj.body_events(0)[3];
+    let w = traj.state(0, fourth.t, StateSide::After).w;
+    assert!(
+        w.norm() < 0.1,
+        "angular speed {:.3} rad/s after the 4th bounce",
+        w.norm()
+    );
+}
+
+/// Paper Figure 5d, first version: the scissors end on the coatrack's low
+/// peg (top at z = 1.31 m, spanning x = 0.44..0.68, y = ±0.08) instead of
+/// on the floor.
+#[test]
+fn scissors_land_on_the_coatrack_peg() {
+    let s = run("scissors");
+    let r = &s.report;
+    let [x, _, v, _] = final_state(r, "scissors");
+    assert!(
+        (0.44..=0.68).contains(&x[0]) && x[1].abs() < 0.08 && (1.31..1.40).contains(&x[2]),
+        "scissors end at {x:?}, not on the low peg"
+    );
+    assert!(norm(v) < 0.5, "scissors still moving at {:.2} m/s", norm(v));
+    assert!(
+        events_between(r, "scissors", "floor").is_empty(),
+        "the scissors still hit the floor"
+    );
+    assert_constraints_hold("scissors", r);
+    assert_plausible("scissors", r);
+}
+
+/// Paper §3.2: on a smooth hill the exit direction moves smoothly; the ball
+/// is dragged over the hilltop to (0.5, 0, 1.0) at t = 1 s with a single
+/// bounce, no pop and no block, and a later change of the throw keeps it
+/// there (nail).
+#[test]
+fn particle_on_a_parabola_moves_smoothly_to_its_new_exit() {
+    let s = run("particle-parabola");
+    let r = &s.report;
+    let [x, ..] = final_state(r, "ball");
+    let miss = norm([x[0] - 0.5, x[1], x[2] - 1.0]);
+    assert!(
+        miss < 0.03,
+        "ball ends at {x:?}, {miss:.3} m from (0.5, 0, 1)"
+    );
+    let events = r["events"].as_array().expect("events");
+    assert_eq!(events.len(), 1, "one bounce: {events:?}");
+    assert_eq!(
+        pops_and_blocks(&s.screen),
+        (0, 0),
+        "a smooth hill needs no pops or blocks"
+    );
+    assert_eq!(
+        r["constraints"].as_array().map(Vec::len),
+        Some(1),
+        "the nail"
+    );
+    assert_constraints_hold("particle-parabola", r);
+    assert_plausible("particle-parabola", r);
+}
+
+/// Paper §5: on a polygonal hill the drag is blocked at the ridge (no
+/// smooth component reaches the target) and pops across it onto the other
+/// facet.
+#[test]
+fn particle_on_a_polygon_pops_across_a_facet_and_is_blocked_at_the_ridge() {
+    let s = run("particle-polygon");
+    let r = &s.report;
+    let (pops, blocks) = pops_and_blocks(&s.screen);
+    assert!(pops >= 1, "no pop: {}", s.screen);
+    assert!(blocks >= 1, "no block: {}", s.screen);
+    let bounce = &r["events"][0];
+    assert!(
+        bounce["feature"]
+            .as_str()
+            .is_some_and(|f| f.contains("f2-3-9-10")),
+        "the bounce did not move to the facet right of the ridge: {bounce}"
+    );
+    assert!(
+        vec3(&bounce["point"])[0] > 0.0,
+        "bounce left of the ridge: {bounce}"
+    );
+    assert_constraints_hold("particle-polygon", r);
+    assert_plausible("particle-polygon", r);
+}
