@@ -21,10 +21,17 @@ fn bench(only: &str) -> String {
 /// rule skipped), split on runs of spaces (an empty leading cell, as in a
 /// row continuing a group, is dropped).
 fn table_rows(text: &str, name: &str) -> Vec<Vec<String>> {
-    let mut lines = text
+    let section: Vec<&str> = text
         .lines()
         .skip_while(|l| !l.starts_with(&format!("== {name}:")))
-        .skip(1);
+        .skip(1)
+        .take_while(|l| !l.starts_with("== "))
+        .collect();
+    // A section may open with a line of prose before its table.
+    let start = (0..section.len().saturating_sub(1))
+        .find(|&i| section[i + 1].trim_start().starts_with("---"))
+        .unwrap_or(0);
+    let mut lines = section.into_iter().skip(start);
     let header = lines.next().unwrap_or_default();
     assert!(
         header.starts_with("  "),
