@@ -19,12 +19,16 @@ fn load(name: &str) -> Scene {
     nudge::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// A paper scene as it was when the sinking and freezing bugs were found
+/// (`tests/hard/paper-*.toml`, frozen copies: `scenes/` keeps evolving).
 fn paper(name: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
-    nudge::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    load(&format!("paper-{name}"))
 }
+
+/// Penetration allowed by design: a pair that just had an impulse is
+/// disarmed until it separates, and fires again only at the event skin
+/// (1e-9 m) inside the surface.
+const SKIN: f64 = 1.1e-9;
 
 fn run(scene: &Scene) -> Result<Trajectory, SimError> {
     simulate(
@@ -53,24 +57,32 @@ fn points(scene: &Scene, b: usize) -> Vec<(Vec3, f64)> {
     out
 }
 
-/// Height of a body's lowest point above `z = 0` at time `t`.
-fn lowest(scene: &Scene, tr: &Trajectory, b: usize, t: f64, side: StateSide) -> f64 {
-    let s = tr.state(b, t, side);
-    points(scene, b)
-        .iter()
-        .map(|(p, r)| s.point(p).z - r)
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// The lowest height any body reaches: sampled at `n` times and just
+/// The smallest signed distance between any body and any obstacle (the
+/// height above the floor, for a floor): sampled at `n` times and just
 /// before and after every event.
 fn lowest_over_run(scene: &Scene, tr: &Trajectory, n: usize) -> f64 {
+    let gap = |b: usize, t: f64, side: StateSide| {
+        let s = tr.state(b, t, side);
+        let pose = nalgebra::Isometry3::from_parts(nalgebra::Translation3::from(s.x), s.q);
+        scene
+            .obstacles
+            .iter()
+            .filter_map(|o| {
+                nudge::geometry::contact(
+                    &scene.bodies[b].geometry,
+                    &pose,
+                    &o.geometry,
+                    &o.pose,
+                    f64::INFINITY,
+                )
+            })
+            .map(|c| c.distance)
+            .fold(f64::INFINITY, f64::min)
+    };
     let mut low = f64::INFINITY;
     for b in 0..scene.bodies.len() {
         for k in 0..=n {
-            low = low.min(lowest(
-                scene,
-                tr,
+            low = low.min(gap(
                 b,
                 scene.duration * k as f64 / n as f64,
                 StateSide::After,
@@ -78,8 +90,8 @@ fn lowest_over_run(scene: &Scene, tr: &Trajectory, n: usize) -> f64 {
         }
         for e in tr.body_events(b) {
             low = low
-                .min(lowest(scene, tr, b, e.t, StateSide::Before))
-                .min(lowest(scene, tr, b, e.t, StateSide::After));
+                .min(gap(b, e.t, StateSide::Before))
+                .min(gap(b, e.t, StateSide::After));
         }
     }
     low
@@ -132,19 +144,31 @@ fn over_support(pts: &[Vec3], c: &Vec3, tol: f64) -> bool {
 /// bound, and a search that still cannot decide is an error, never a miss.
 #[test]
 fn regression_bodies_sank_through_the_floor_when_the_event_search_gave_up() {
-    for name in [
-        "mug.toml",
-        "scissors.toml",
-        "plank.toml",
-        "eggs.toml",
-        "bounce.toml",
-    ] {
+    for name in ["mug.toml", "scissors.toml", "plank.toml", "eggs.toml"] {
         let s = paper(name);
         let tr = run_ok(&s);
         let low = lowest_over_run(&s, &tr, 600);
         assert!(
-            low > -1e-9,
+            low > -SKIN,
             "{name}: a body reaches {low:.3e} m below the floor"
+        );
+    }
+    // And every scene shipped now.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    paths.sort();
+    for path in paths {
+        let s = nudge::scene::load(&path).unwrap();
+        let tr = run_ok(&s);
+        let low = lowest_over_run(&s, &tr, 600);
+        assert!(
+            low > -SKIN,
+            "{}: a body reaches {low:.3e} m below the floor",
+            path.display()
         );
     }
     // Without rest and micro-collisions (rest_speed = 0) sustained contact
@@ -154,7 +178,7 @@ fn regression_bodies_sank_through_the_floor_when_the_event_search_gave_up() {
         let mut s = paper(name);
         s.rest_speed = 0.0;
         match run(&s) {
-            Ok(tr) => assert!(lowest_over_run(&s, &tr, 600) > -1e-9, "{name}"),
+            Ok(tr) => assert!(lowest_over_run(&s, &tr, 600) > -SKIN, "{name}"),
             Err(e @ SimError::EventSearchStalled { .. }) => {
                 assert!(e.to_string().contains("raise rest_speed"), "{e}")
             }
@@ -228,7 +252,7 @@ fn regression_rest_froze_a_falling_body_against_a_wall() {
         "the box ends on the floor, not at z = {:.4}",
         end.x.z
     );
-    assert!(lowest_over_run(&s, &tr, 300) > -1e-9);
+    assert!(lowest_over_run(&s, &tr, 300) > -SKIN);
 }
 
 /// A box landing on an edge rocks onto its face. It must settle on the
@@ -245,7 +269,7 @@ fn regression_a_rocking_box_chattered_or_froze_on_an_edge() {
         .find(|e| e.slide.is_some())
         .expect("the box settles into a slide");
     assert!(tr.events.len() < 2000, "{} events", tr.events.len());
-    assert!(lowest_over_run(&s, &tr, 400) > -1e-9);
+    assert!(lowest_over_run(&s, &tr, 400) > -SKIN);
     let last = tr.state(0, s.duration, StateSide::After);
     assert!(
         (last.x.z - 0.04).abs() < 1e-4,
@@ -1098,8 +1122,8 @@ fn a_chaotic_horizon_is_reported_ill_conditioned_and_the_residual_never_rises() 
     }
     assert!(residuals.windows(2).all(|w| w[1] <= w[0]), "{residuals:?}");
     assert!(
-        !conditions.is_empty() && conditions.iter().all(|c| *c >= 1.0),
-        "a condition number is reported: {conditions:?}"
+        conditions.iter().all(|c| *c > 1e10),
+        "the ill-conditioning is detected and reported: {conditions:?}"
     );
     assert!(
         largest_step < 0.1,
@@ -1166,4 +1190,548 @@ fn a_chaotic_horizon_is_reported_as_ill_conditioned() {
             r.diagnostics
         );
     }
+}
+
+// ---------------------------------------------------------------------------
+// Over- and under-constrained edits.
+// ---------------------------------------------------------------------------
+
+/// On a tumbling box with all twelve state controls free, after its first
+/// bounce: a full-state nail given twice (24 rows, rank 12) converges;
+/// three position nails at the corners of a triangle give the
+/// least-squares step to its centroid and `Conflicting`; a drag before the
+/// only free controls act (event controls) names the block to free.
+#[test]
+fn duplicated_nails_converge_conflicting_nails_give_least_squares_and_unreachable_drags_say_what_to_free()
+ {
+    use nudge::edit::{Core, Edit, Editor};
+    use nudge::scene::StateQuantity;
+    use nudge::solve::{
+        Anchor, Constraint, Diagnostic, Kind, UpdateOptions, residual_norm, update,
+    };
+    let mut s = load("tumbling-box.toml");
+    let controls = Controls::new(&s);
+    let mut tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
+    let t = 0.5;
+    assert!(tr.events.iter().filter(|e| e.t < t).count() >= 1);
+    let st = tr.state(0, t, StateSide::After);
+    let r = st.orientation_vector();
+    let all = vec![
+        StateQuantity::Position,
+        StateQuantity::Orientation,
+        StateQuantity::Velocity,
+        StateQuantity::AngularVelocity,
+    ];
+    let target = vec![
+        st.x.x + 0.01,
+        st.x.y - 0.01,
+        st.x.z,
+        r.x,
+        r.y,
+        r.z + 0.02,
+        st.v.x,
+        st.v.y,
+        st.v.z,
+        st.w.x,
+        st.w.y,
+        st.w.z,
+    ];
+    let nail = Constraint {
+        body: 0,
+        anchor: Anchor::Time(t),
+        kind: Kind::State {
+            quantities: all,
+            target,
+        },
+        drag: false,
+    };
+    let twice = vec![nail.clone(), nail];
+    let mut residuals = vec![residual_norm(&tr, &twice)];
+    for _ in 0..8 {
+        let r = update(&s, &controls, &tr, &twice, &UpdateOptions::default()).unwrap();
+        assert!(
+            !r.diagnostics
+                .iter()
+                .any(|d| matches!(d, Diagnostic::Conflicting { .. })),
+            "duplicates are consistent: {:?}",
+            r.diagnostics
+        );
+        controls.write(&mut s, &r.u);
+        tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
+        residuals.push(residual_norm(&tr, &twice));
+        if residuals[residuals.len() - 1] < 1e-9 {
+            break;
+        }
+    }
+    let last = residuals[residuals.len() - 1];
+    assert!(
+        last < 1e-8,
+        "duplicated 12-row nails converge: {residuals:?}"
+    );
+    // Conflicting: three nails on the position at the corners of a triangle.
+    let s = load("tumbling-box.toml");
+    let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
+    let x = tr.state(0, t, StateSide::After).x;
+    let corners = [
+        Vec3::new(0.03, 0.0, 0.0),
+        Vec3::new(-0.015, 0.026, 0.0),
+        Vec3::new(-0.015, -0.026, 0.0),
+    ];
+    let nails: Vec<Constraint> = corners
+        .iter()
+        .map(|c| Constraint {
+            body: 0,
+            anchor: Anchor::Time(t),
+            kind: Kind::State {
+                quantities: vec![StateQuantity::Position],
+                target: (x + c).iter().cloned().collect(),
+            },
+            drag: false,
+        })
+        .collect();
+    let r = update(&s, &controls, &tr, &nails, &UpdateOptions::default()).unwrap();
+    let unmet = r.diagnostics.iter().find_map(|d| match d {
+        Diagnostic::Conflicting { residual } => Some(*residual),
+        _ => None,
+    });
+    let centroid = corners.iter().sum::<Vec3>() / 3.0;
+    let spread: f64 = corners
+        .iter()
+        .map(|c| (c - centroid).norm_squared())
+        .sum::<f64>()
+        .sqrt();
+    let unmet = unmet.expect("Conflicting");
+    assert!(
+        (unmet - spread).abs() < 1e-6 * spread,
+        "least-squares residual {unmet} vs {spread}"
+    );
+    assert!(r.after <= r.before && r.u.iter().all(|v| v.is_finite()));
+    // Under-constrained: the mug's only controls are the floor's normal and
+    // restitution at its 3rd and 4th bounces; a drag before them cannot act.
+    let mug = paper("mug.toml");
+    let mut e = Editor::new(mug, None).unwrap();
+    let first_controlled = e.trajectory().events[2].t;
+    e.apply(Edit::SelectTime(0.5 * first_controlled)).unwrap();
+    let u0: Vec<u64> = e
+        .controls()
+        .values(e.scene())
+        .iter()
+        .map(|v| v.to_bits())
+        .collect();
+    let err = e
+        .apply(Edit::Nudge {
+            quantity: StateQuantity::Position,
+            delta: Vec3::new(0.05, 0.0, 0.0),
+        })
+        .expect_err("nothing can move the mug before its third bounce");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("free a block of mug") && msg.contains("acts before this time"),
+        "{msg}"
+    );
+    let u1: Vec<u64> = e
+        .controls()
+        .values(e.scene())
+        .iter()
+        .map(|v| v.to_bits())
+        .collect();
+    assert_eq!(u0, u1, "a refused drag changes nothing");
+    eprintln!(
+        "constraints: duplicated nails {} → {last:.1e} in {} updates; conflicting residual {unmet:.4e} (least squares {spread:.4e}); unreachable drag: {msg}",
+        residuals[0],
+        residuals.len() - 1
+    );
+}
+
+// ---------------------------------------------------------------------------
+// Extreme parameters.
+// ---------------------------------------------------------------------------
+
+/// Mass ratios 1e-6 and 1e6 between two colliding balls: momentum is
+/// conserved to 1e-12 of the total, energy never grows, and the tangent
+/// Jacobian still matches central differences.
+#[test]
+fn extreme_mass_ratios_conserve_momentum_and_keep_exact_jacobians() {
+    use nudge::tangent::{FiniteDifference, Scheme, max_relative_error};
+    for (m1, m2) in [(1e-6, 1e6), (1.0, 1.0), (1e6, 1e-6)] {
+        let mut s = load("extremes.toml");
+        s.bodies.truncate(2);
+        for (b, m) in s.bodies.iter_mut().zip([m1, m2]) {
+            b.mass = m;
+            b.inertia = Vec3::repeat(0.4 * m * 0.05 * 0.05);
+        }
+        s.duration = 0.5;
+        s.accuracy.root_tol = 1e-14;
+        let controls = Controls::new(&s);
+        let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
+        let ev = tr
+            .events
+            .iter()
+            .find(|e| e.b == nudge::sim::Party::Body(1))
+            .expect("they collide");
+        let p = |st: &[nudge::sim::BodyState; 2]| st[0].v * m1 + st[1].v * m2;
+        let scale = m1.max(m2) * 2.0;
+        assert!(
+            (p(&ev.pre) - p(&ev.post)).norm() <= 1e-12 * scale,
+            "{m1}/{m2}: momentum {:?} → {:?}",
+            p(&ev.pre),
+            p(&ev.post)
+        );
+        let k = |st: &[nudge::sim::BodyState; 2]| kinetic(&tr, 0, &st[0]) + kinetic(&tr, 1, &st[1]);
+        assert!(k(&ev.post) <= k(&ev.pre) * (1.0 + 1e-12));
+        let fd = FiniteDifference::new(&s, &controls, Scheme::Central).unwrap();
+        let t = 0.4;
+        let mask = fd.comparable_until(t);
+        for b in 0..2 {
+            let jt = tr.jacobian(b, t, StateSide::After).unwrap();
+            let err = max_relative_error(&jt, &fd.at(b, t, StateSide::After), &mask, 1e-3);
+            assert!(err < 1e-6, "{m1}/{m2} body {b}: tangent vs FD {err:.2e}");
+        }
+    }
+}
+
+/// A needle with principal moments 1e-9, 1e-3, 1e-3 tumbles and lands.
+/// Its first impact, 2 mm off its long axis, kicks it into a spin of
+/// thousands of rad/s about that axis, whose precession turned by ~4 rad
+/// per RK4 step: the run used to blow up into NaN. Fixed steps are now
+/// subdivided where the spin needs it (or the run stops with a typed error
+/// naming the body); with both integrators the needle is simulated with
+/// energy and |L| conserved to 1e-6 between impacts.
+#[test]
+fn regression_a_near_singular_inertia_blew_up_after_its_first_impact() {
+    for adaptive in [false, true] {
+        let mut s = load("extremes.toml");
+        if adaptive {
+            s.accuracy.method = nudge::scene::Method::Adaptive {
+                tol: 1e-10,
+                max_step: 0.01,
+            };
+        }
+        let tr = match run(&s) {
+            Ok(tr) => tr,
+            Err(e @ SimError::SpinTooFast { .. }) => {
+                let msg = e.to_string();
+                assert!(
+                    msg.contains("\"needle\"") && msg.contains("principal moments"),
+                    "{msg}"
+                );
+                continue;
+            }
+            Err(e) => panic!("adaptive={adaptive}: {e}"),
+        };
+        let b = 2;
+        let d = &tr.dynamics[b];
+        let inv = |t: f64, side: StateSide| {
+            let st = tr.state(b, t, side);
+            assert!(st.is_finite(), "at {t}");
+            let r = *st.q.to_rotation_matrix().matrix();
+            let l = r * d.inertia * r.transpose() * st.w;
+            (0.5 * st.w.dot(&l), l.norm())
+        };
+        let mut marks: Vec<f64> = vec![0.0];
+        marks.extend(tr.body_events(b).iter().map(|e| e.t));
+        marks.push(s.duration);
+        assert!(marks.len() > 2, "it lands");
+        let mut worst: f64 = 0.0;
+        for w in marks.windows(2) {
+            if w[1] - w[0] < 1e-9 {
+                continue;
+            }
+            let (e0, l0) = inv(w[0], StateSide::After);
+            if e0 == 0.0 {
+                continue; // at rest
+            }
+            for k in 1..=20 {
+                let (e, l) = inv(w[0] + (w[1] - w[0]) * k as f64 / 21.0, StateSide::After);
+                let dd = ((e - e0) / e0).abs().max(((l - l0) / l0).abs());
+                worst = worst.max(dd);
+            }
+        }
+        assert!(
+            worst < 1e-6,
+            "adaptive={adaptive}: energy/|L| drift in flight {worst:.2e}"
+        );
+        assert!(lowest_over_run(&s, &tr, 500) > -SKIN);
+        let peak = tr
+            .body_events(b)
+            .iter()
+            .map(|e| e.post[0].w.norm())
+            .fold(0.0, f64::max);
+        eprintln!(
+            "needle (I = 1e-9, 1e-3, 1e-3), adaptive={adaptive}: {} impacts, peak spin {peak:.1e} rad/s, in-flight drift {worst:.1e}",
+            marks.len() - 2
+        );
+    }
+}
+
+/// Restitution 0 and 1, a 1e4 s horizon and a 1e-6 m body: each is
+/// simulated correctly.
+#[test]
+fn restitution_zero_and_one_a_long_horizon_and_a_micron_body_simulate_correctly() {
+    // e = 0: the ball stops at its first impact.
+    let mut s = load("zeno.toml");
+    s.bodies[0].restitution = 0.0;
+    let tr = run_ok(&s);
+    assert_eq!(tr.events.len(), 1);
+    assert!(tr.events[0].rest && (tr.events[0].t - (2.0f64 / 9.81).sqrt()).abs() < 1e-9);
+    // e = 0 for a tumbling box: it settles in finitely many events.
+    let mut s = load("tumbling-box.toml");
+    s.bodies[0].restitution = 0.0;
+    s.duration = 3.0;
+    let tr = run_ok(&s);
+    assert!(
+        tr.events.iter().any(|e| e.rest || e.slide.is_some()) && tr.events.len() < 2000,
+        "{} events",
+        tr.events.len()
+    );
+    assert!(lowest_over_run(&s, &tr, 600) > -SKIN);
+    // e = 1 over a 1e4 s horizon: every bounce arrives at the same speed.
+    let mut s = load("zeno.toml");
+    s.bodies[0].restitution = 1.0;
+    s.duration = 1e4;
+    let started = std::time::Instant::now();
+    let tr = run_ok(&s);
+    let v0 = (2.0f64 * 9.81).sqrt();
+    let period = 2.0 * v0 / 9.81;
+    let expected = ((s.duration - v0 / 9.81) / period).floor() as usize + 1;
+    assert_eq!(tr.events.len(), expected, "bounces in 1e4 s");
+    let worst = tr
+        .events
+        .iter()
+        .map(|e| (-e.approach / v0 - 1.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "arrival speed drifts by {worst:.2e}");
+    let last = tr.events.last().unwrap();
+    assert!(
+        (last.t - (v0 / 9.81 + (expected - 1) as f64 * period)).abs() < 1e-6,
+        "last bounce at {}",
+        last.t
+    );
+    eprintln!(
+        "e=1 over 1e4 s: {} bounces in {:?}, speed drift {worst:.1e}, last bounce off by {:.1e} s",
+        tr.events.len(),
+        started.elapsed(),
+        (last.t - (v0 / 9.81 + (expected - 1) as f64 * period)).abs()
+    );
+    // A 1e-6 m ball (e = 0.5) dropped from 10 µm: the Zeno series still ends
+    // at its limit and the ball never dips below the floor.
+    let mut s = load("zeno.toml");
+    let text = nudge::scene::to_toml(&s).replace("radius = 0.1", "radius = 1e-6");
+    s = nudge::scene::load_str(&text, "micro.toml").unwrap();
+    s.bodies[0].position = Vec3::new(0.0, 0.0, 1e-6 + 1e-5);
+    s.bodies[0].restitution = 0.5;
+    s.duration = 0.01;
+    let tr = run_ok(&s);
+    let t0 = (2.0f64 * 1e-5 / 9.81).sqrt();
+    let rest = tr.events.iter().find(|e| e.rest).expect("rests");
+    assert!(
+        (rest.rest_time.unwrap() - 3.0 * t0).abs() < 1e-9 * t0.max(1.0),
+        "{} vs {}",
+        rest.rest_time.unwrap(),
+        3.0 * t0
+    );
+    assert!(lowest_over_run(&s, &tr, 1000) > -1e-12);
+}
+
+// ---------------------------------------------------------------------------
+// Bad input.
+// ---------------------------------------------------------------------------
+
+/// Every number of a scene replaced by NaN, ±infinity or 1e400 in turn: a
+/// located message quoting the value, never a panic.
+#[test]
+fn non_finite_numbers_anywhere_in_a_scene_are_refused_with_a_located_message() {
+    let mut checked = 0;
+    for name in ["tumbling-box.toml", "extremes.toml", "cradle.toml"] {
+        let text = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("tests/hard")
+                .join(name),
+        )
+        .unwrap();
+        // Byte ranges of the numbers outside comments.
+        let mut spans = Vec::new();
+        let mut offset = 0;
+        for line in text.split_inclusive('\n') {
+            let code = line.split('#').next().unwrap_or("");
+            let b = code.as_bytes();
+            let mut i = 0;
+            while i < b.len() {
+                let starts = (b[i].is_ascii_digit()
+                    || (b[i] == b'-' && i + 1 < b.len() && b[i + 1].is_ascii_digit()))
+                    && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'));
+                if starts {
+                    let j = (i + 1..b.len())
+                        .find(|&j| !(b[j].is_ascii_digit() || b"-+.eE".contains(&b[j])))
+                        .unwrap_or(b.len());
+                    spans.push((offset + i, offset + j));
+                    i = j;
+                } else {
+                    i += 1;
+                }
+            }
+            offset += line.len();
+        }
+        for &(a, b) in &spans {
+            for bad in ["nan", "inf", "-inf", "1e400"] {
+                let edited = format!("{}{bad}{}", &text[..a], &text[b..]);
+                match nudge::scene::load_str(&edited, name) {
+                    Err(e) => {
+                        let msg = e.to_string();
+                        assert!(
+                            msg.starts_with(name) && msg.matches(':').count() >= 3,
+                            "{msg}"
+                        );
+                        checked += 1;
+                    }
+                    Ok(s) => {
+                        // Only a count-like field may legitimately take it; none does.
+                        panic!("{name}: {bad} at byte {a} accepted: {}", s.name);
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 100, "{checked} numbers checked");
+    eprintln!("bad input: {checked} non-finite numbers refused");
+}
+
+/// `:` commands with NaN or infinity and hostile key scripts against the
+/// real editor: a message, no panic, and nothing changes.
+#[test]
+fn non_finite_commands_and_hostile_key_scripts_leave_the_editor_unchanged() {
+    use nudge::edit::Editor;
+    use nudge::script::{parse_keys, run_script};
+    let mut e = Editor::new(load("tumbling-box.toml"), None).unwrap();
+    let fingerprint = |e: &Editor| {
+        (
+            e.controls()
+                .values(e.scene())
+                .iter()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>(),
+            nudge::scene::to_toml(&e.scene_to_save()),
+            e.constraints().len(),
+        )
+    };
+    let before = fingerprint(&e);
+    let commands = [
+        ":set tol nan",
+        ":set tol inf",
+        ":set tol 1e400",
+        ":set step -inf",
+        ":set step 1e-400",
+        ":set roottol NaN",
+        ":set scale velocity nan",
+        ":set scale position -1",
+        ":set nudge inf",
+        ":t nan",
+        ":t -inf",
+        ":spin inf",
+        ":spin nan",
+        ":settle nan",
+        ":settle 1e400",
+        ":event 99999999999999999999",
+        ":delete 18446744073709551616",
+        ":body nan",
+        ":free box nan",
+        ":speed nobody",
+        ":float sideways",
+        ":nail nan",
+    ];
+    for cmd in commands {
+        let script = format!("{}<CR>", cmd.replace(' ', "<Space>"));
+        let keys = parse_keys(&script, "cmd.keys").unwrap();
+        let r = run_script(&mut e, &keys, (80, 24));
+        assert!(!r.quit, "{cmd}");
+        assert_eq!(fingerprint(&e), before, "{cmd} changed the editor");
+    }
+    // Hostile key scripts: parse errors or harmless keys, never a panic.
+    let long = "l".repeat(100_000);
+    for text in [
+        "<",
+        "<<<>>>",
+        "<F99999999999999999999>",
+        "<C-S-A-M-x>",
+        "<nan>",
+        "<inf>",
+        "\u{0}\u{7f}\u{feff}",
+        "99999999999999999999999l",
+        "<S-Esc><C-Tab>",
+        &long,
+    ] {
+        match parse_keys(text, "hostile.keys") {
+            Ok(keys) if keys.len() < 1000 => {
+                let mut e = Editor::new(load("tumbling-box.toml"), None).unwrap();
+                let r = run_script(&mut e, &keys, (80, 24));
+                assert!(
+                    e.controls().values(e.scene()).iter().all(|v| v.is_finite()),
+                    "{text}: {}",
+                    r.screen
+                );
+            }
+            Ok(_) => {}
+            Err(err) => assert!(err.to_string().starts_with("hostile.keys:1:"), "{err}"),
+        }
+    }
+}
+
+/// A 100 MB scene file is refused by its size before it is read; a deeply
+/// nested compound is refused with a message, not a stack overflow.
+#[test]
+fn a_100_mb_scene_and_a_deeply_nested_compound_are_refused_cleanly() {
+    let dir = std::env::temp_dir().join(format!("nudge-hard-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let big = dir.join("big.toml");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(100 * 1024 * 1024)
+        .unwrap();
+    let started = std::time::Instant::now();
+    let err = nudge::scene::load(&big).expect_err("too large").to_string();
+    assert!(
+        err.contains("too large") && err.contains("104857600"),
+        "{err}"
+    );
+    assert!(
+        started.elapsed().as_secs_f64() < 1.0,
+        "refused without reading it"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+    // The same in memory.
+    let text = format!(
+        "duration = 1.0\neffects = []\nnotes = \"{}\"\n",
+        "x".repeat(100 * 1024 * 1024)
+    );
+    assert!(
+        nudge::scene::load_str(&text, "big.toml")
+            .unwrap_err()
+            .to_string()
+            .contains("too large")
+    );
+    drop(text);
+    // Nesting: a few levels of compounds load; thousands are refused.
+    let nest = |depth: usize| {
+        let mut shape = String::from("{ type = \"box\", half_extents = [0.1, 0.1, 0.1] }");
+        for _ in 0..depth {
+            shape = format!("{{ type = \"compound\", parts = [{{ shape = {shape} }}] }}");
+        }
+        format!(
+            "duration = 1.0\neffects = []\n[[body]]\nname = \"b\"\ndensity = 1.0\nshape = {shape}\n"
+        )
+    };
+    assert!(nudge::scene::load_str(&nest(4), "nest.toml").is_ok());
+    for depth in [200, 10_000] {
+        let err = nudge::scene::load_str(&nest(depth), "nest.toml")
+            .expect_err("too deep")
+            .to_string();
+        assert!(err.starts_with("nest.toml:"), "{err}");
+    }
+    // Deeply nested arrays too.
+    let arrays = format!(
+        "duration = 1.0\neffects = []\nx = {}{}\n",
+        "[".repeat(100_000),
+        "]".repeat(100_000)
+    );
+    assert!(nudge::scene::load_str(&arrays, "arrays.toml").is_err());
 }

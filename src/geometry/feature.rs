@@ -286,6 +286,43 @@ impl FeaturePair {
         }
     }
 
+    /// The hull vertices of `a` (index and position in `a`'s owner frame)
+    /// that this contact stands for, when it is a simultaneous contact of
+    /// several of them; empty otherwise.
+    pub fn a_vertices(&self, a: &Geometry) -> Vec<(usize, Vec3)> {
+        match &self.a {
+            SideFeature::Point {
+                vertices, radius, ..
+            } if vertices.len() > 1 && *radius == 0.0 => {
+                let verts = a
+                    .parts
+                    .get(self.part_a)
+                    .map(|p| p.vertices())
+                    .unwrap_or_default();
+                vertices
+                    .iter()
+                    .filter_map(|&i| verts.get(i).map(|v| (i, *v)))
+                    .collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// The same contact reduced to one vertex of `a` (see
+    /// [`FeaturePair::a_vertices`]): used when the centroid of a
+    /// simultaneous contact does not approach but one of its vertices does
+    /// (an edge rocking about its midpoint).
+    pub fn with_a_vertex(&self, vertex: usize, p: Vec3) -> FeaturePair {
+        FeaturePair {
+            a: SideFeature::Point {
+                p,
+                radius: 0.0,
+                vertices: vec![vertex],
+            },
+            ..self.clone()
+        }
+    }
+
     /// Evaluate the contact geometry of this feature pair at the given poses.
     /// Generic in the scalar so that forward-mode dual numbers give exact
     /// derivatives of the distance, normal and contact points.

@@ -52,6 +52,20 @@ impl BodyDynamics {
         }
     }
 
+    /// How fast the body-frame angular velocity `w` turns under Euler's
+    /// equations, rad/s: `max |I_j − I_k| / I_i · max(|ω_j|, |ω_k|)` over
+    /// the principal axes. A fixed step must be well below its inverse.
+    pub fn precession_rate(&self, w: &Vec3) -> f64 {
+        let wp = self.axes.transpose() * w;
+        let i = self.principal;
+        (0..3)
+            .map(|a| {
+                let (j, k) = ((a + 1) % 3, (a + 2) % 3);
+                (i[j] - i[k]).abs() / i[a] * wp[j].abs().max(wp[k].abs())
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// World inverse inertia for orientation matrix `r`.
     pub fn world_inertia_inv(&self, r: &Mat3) -> Mat3 {
         r * self.inertia_inv * r.transpose()

@@ -104,11 +104,21 @@ impl World<'_> {
         let w_max = (l / i_min)
             .min((s.w.dot(&iw).max(0.0) / i_min).sqrt())
             .max(s.w.norm());
+        // |ω̇_i| = |I_j − I_k| / I_i · |ω_j ω_k| ≤ that · ω_max² / 2 per axis,
+        // and |ω̇| ≤ |ω × Iω| / I_min overall: the smaller bound.
+        let p = d.principal;
+        let euler = (0..3)
+            .map(|a| ((p[(a + 1) % 3] - p[(a + 2) % 3]) / p[a]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+            * 0.5
+            * w_max
+            * w_max;
         let spin = self
             .traj
             .slide(i, t, StateSide::After)
             .map_or(0.0, |sl| sl.spin_decel);
-        (w_max, w_max * l / i_min + spin)
+        (w_max, (w_max * l / i_min).min(euler) + spin)
     }
 
     /// The largest safe advance over a gap (m) for any combination of the

@@ -35,10 +35,11 @@
 //!    mass; translation and spin decoupled, an approximation) stops it.
 //!    Friction on an inclined plane is not modelled this way (such a body
 //!    keeps bouncing), nor is rolling resistance of a sliding ball.
-//! 3. **Bounce** — otherwise an ordinary impulse; and if it would separate
-//!    slower than `v_r` (the Zeno regime of a contact that should be
-//!    sustained: pivoting, rolling onto a face) it is a *micro-collision*:
-//!    the contact leaves at `max(u, v_r)` for an approach speed `u`. A
+//! 3. **Bounce** — otherwise an ordinary impulse; and if it approached
+//!    slower than `2 v_r` and would separate slower than `v_r` (the Zeno
+//!    regime of a contact that should be sustained: pivoting, rolling onto
+//!    a face) it is a *micro-collision*: the contact leaves at
+//!    `max(u, v_r)` for an approach speed `u`. A
 //!    sustained frictionless contact does no work, so elastic is the right
 //!    limit, and the floor `v_r` makes every hop last at least `2 v_r / g`:
 //!    the impact rate is bounded, no Zeno series, and the contact point
@@ -109,6 +110,11 @@ pub(crate) struct Impact<'a> {
     /// The rest speed `v_r` in force for this body (see [`thresholds`]).
     pub v_rest: f64,
 }
+
+/// An impact is a micro-collision only when it approaches slower than
+/// this many times `v_r` (and would separate slower than `v_r`): faster
+/// impacts, even inelastic ones, are ordinary bounces.
+pub const MICRO: f64 = 2.0;
 
 /// Micro-collision hops rise at most this fraction of the body's reach.
 pub const HOP: f64 = 3e-5;

@@ -14,6 +14,15 @@ use crate::math::{Vec3, exp_so3, left_jacobian};
 use crate::scene::{Block, Method, Scene};
 use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
 
+/// A fixed RK4 step whose body's angular velocity would turn by more than
+/// this (rad; `h ·` [`BodyDynamics::precession_rate`]) is split into
+/// substeps that turn it by at most this much. RK4 goes unstable near
+/// 2.8 rad per step, which used to turn such a body into NaN; at 0.1 rad
+/// energy and |L| stay conserved to about 1e-7 per revolution.
+const SUBSTEP_TURN: f64 = 0.1;
+/// More substeps than this per step: [`SimError::SpinTooFast`].
+const MAX_SUBSTEPS: usize = 10_000;
+
 /// Options of one simulation run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimOptions {
@@ -67,9 +76,21 @@ pub enum SimError {
     /// that neither separates nor approaches faster than the root
     /// tolerance can resolve). Nothing tunnels silently: the run stops.
     #[error(
-        "the collision search between \"{a}\" and \"{b}\" stalled at t = {t:.6} s (a contact that neither separates nor approaches); raise rest_speed so micro-collisions can resolve it, or loosen root_tol"
+        "the collision search between \"{a}\" and \"{b}\" stalled at t = {t:.6} s : their contact neither clears nor closes (a sustained contact, or a body spinning much faster than it moves); raise rest_speed so micro-collisions resolve sustained contact, or make extreme principal moments less extreme"
     )]
     EventSearchStalled { a: String, b: String, t: f64 },
+    /// A body's angular velocity turns faster than the fixed step can
+    /// follow (a near-singular inertia kicked into a fast spin).
+    #[error(
+        "body \"{body}\" spins so that its angular velocity turns at {rate:.1e} rad/s at t = {t:.6} s, too fast for the rk4 step of {step:.1e} s (steps longer than {limit:.1e} s would need more than 10 000 substeps); make its principal moments less extreme, or use a smaller step or method = \"adaptive\"",
+        limit = SUBSTEP_TURN * MAX_SUBSTEPS as f64 / rate
+    )]
+    SpinTooFast {
+        body: String,
+        t: f64,
+        rate: f64,
+        step: f64,
+    },
     /// The adaptive integrator could not meet the tolerance.
     #[error("the adaptive step fell below 1e-12 s at t = {t:.6} s; loosen the tolerance")]
     StepTooSmall { t: f64 },
@@ -329,10 +350,31 @@ impl Sim<'_> {
                 for &i in &active {
                     let c = self.cursors[i].as_ref().map(|c| (c.q, c.z.clone()));
                     if let Some((q, z)) = c {
-                        steps.push((
-                            i,
-                            integrator::step_rk4(&self.traj.dynamics[i], t, q, z, h, &mut evals),
-                        ));
+                        // A body whose angular velocity would turn by more
+                        // than 0.1 rad in the step (a fast spin of a
+                        // lopsided body) takes it in substeps of 0.1 rad.
+                        let d = &self.traj.dynamics[i];
+                        let rate = d.precession_rate(&integrator::body_rate(&z));
+                        let n = (rate * h / SUBSTEP_TURN).ceil().max(1.0);
+                        if n > MAX_SUBSTEPS as f64 {
+                            return Err(SimError::SpinTooFast {
+                                body: self.scene.bodies[i].name.clone(),
+                                t,
+                                rate,
+                                step: h,
+                            });
+                        }
+                        let n = n as usize;
+                        let hs = h / n as f64;
+                        let (mut q, mut z) = (q, z);
+                        for k in 0..n {
+                            let t0 = if k == 0 { t } else { t + k as f64 * hs };
+                            let len = if k + 1 == n { t + h - t0 } else { hs };
+                            let step = integrator::step_rk4(d, t0, q, z, len, &mut evals);
+                            q = integrator::advance(&step.q0, &step.z1);
+                            z = reset_theta(step.z1.clone());
+                            steps.push((i, step));
+                        }
                     }
                 }
                 self.push_steps(steps, t + h)?;
@@ -548,7 +590,7 @@ impl Sim<'_> {
             ),
         };
         let body_a = &scene.bodies[a];
-        let feature = FeaturePair::classify(&body_a.geometry, &iso(&sa), gb, &pose_b, contact);
+        let mut feature = FeaturePair::classify(&body_a.geometry, &iso(&sa), gb, &pose_b, contact);
         let index = self.traj.events.len();
         let control = scene.event_control(index);
         let restitution = control
@@ -586,6 +628,35 @@ impl Sim<'_> {
         let mut res = ctx.apply();
         if friction > 0.0 {
             Counters::bump(&self.traj.counters.friction, 1);
+        }
+        if res.approach >= 0.0 {
+            // A simultaneous contact whose centroid does not approach may
+            // still have a vertex that does (an edge or face rocking about
+            // its centre, after an inelastic impulse there): that vertex
+            // takes the impulse. Skipping it let the vertex sink below the
+            // surface.
+            let deepest = feature
+                .a_vertices(&body_a.geometry)
+                .into_iter()
+                .map(|(i, p)| {
+                    let at = sa.point(&p);
+                    let vb = sb.map_or(Vec3::zeros(), |s| s.v + s.w.cross(&(at - s.x)));
+                    (i, p, n.dot(&(sa.point_velocity(&p) - vb)))
+                })
+                .min_by(|x, y| x.2.total_cmp(&y.2));
+            if let Some((i, p, vn)) = deepest
+                && vn < 0.0
+            {
+                let single = feature.with_a_vertex(i, p);
+                ctx.feature = single.clone();
+                let r2 = ctx.apply();
+                if r2.approach < 0.0 {
+                    feature = single;
+                    res = r2;
+                } else {
+                    ctx.feature = feature.clone();
+                }
+            }
         }
         if res.approach >= 0.0 {
             // Touching without approaching (a graze at the root): no impulse;
@@ -632,7 +703,11 @@ impl Sim<'_> {
             self.tol.arm,
         )
         .0;
-        if mode == Mode::Bounce && matches!(pair.b, Party::Obstacle(_)) && res.separation < v_min {
+        if mode == Mode::Bounce
+            && matches!(pair.b, Party::Obstacle(_))
+            && res.separation < v_min
+            && -res.approach < rest::MICRO * v_min
+        {
             // A micro-collision: elastic, or at least `v_min` (bounded
             // chatter instead of a Zeno series; see `sim::rest`).
             ctx.min_separation = Some(v_min);
