@@ -15,6 +15,7 @@ mod events;
 mod flight;
 mod impulse;
 mod integrator;
+mod jet;
 mod rest;
 mod run;
 mod state;

@@ -5,11 +5,14 @@
 //! impulse that is applied and the one that is differentiated are the same
 //! code, including how the contact point and normal move with the bodies.
 
+use super::jet::{self, Sj, Vj};
 use super::state::BodyState;
 use crate::geometry::{FeaturePair, PoseT};
 use crate::math::{Mat3, Vec3};
-use nalgebra::{DMatrix, Isometry3, Matrix3, RealField, SMatrix, SVector, Vector3, convert};
-use num_dual::DualSVec64;
+use nalgebra::{
+    Const, DMatrix, Isometry3, Matrix3, RealField, SMatrix, SVector, U1, Vector3, convert,
+};
+use num_dual::{Derivative, DualSVec64};
 
 /// Number of outputs of the impulse model: `E`, then `v⁺, ω⁺` of a and of b.
 pub const OUTPUTS: usize = 13;
@@ -118,11 +121,18 @@ struct Moving<T: RealField> {
     inv_inertia: Matrix3<T>,
 }
 
-fn moving<T: RealField>(p: &PartyCtx, z: &[T], at: usize, pm: usize) -> Moving<T> {
+/// A party's pose perturbed by `δx = z[at..at+3]`, `δθ = z[at+3..at+6]`.
+fn pose<T: RealField>(p: &PartyCtx, z: &[T], at: usize) -> PoseT<T> {
     let r0 = cm::<T>(p.state.q.to_rotation_matrix().matrix());
     // First-order left perturbation: exact for first derivatives at δθ = 0.
     let r = (Matrix3::identity() + skew(&v3(z, at + 3))) * r0;
     let x = cv::<T>(&p.state.x) + v3(z, at);
+    PoseT { x, r }
+}
+
+fn moving<T: RealField>(p: &PartyCtx, z: &[T], at: usize, pm: usize) -> Moving<T> {
+    let pose = pose(p, z, at);
+    let r = pose.r.clone();
     let v = cv::<T>(&p.state.v) + v3(z, at + 6);
     let w = cv::<T>(&p.state.w) + v3(z, at + 9);
     let inv_mass = T::one() / z[pm].clone();
@@ -135,11 +145,59 @@ fn moving<T: RealField>(p: &PartyCtx, z: &[T], at: usize, pm: usize) -> Moving<T
     let rq = &r * q;
     let inv_inertia = &rq * diag * rq.transpose();
     Moving {
-        pose: PoseT { x, r },
+        pose,
         v,
         w,
         inv_mass,
         inv_inertia,
+    }
+}
+
+/// One moving party of a frictionless impulse, as jets: its velocities,
+/// inverse mass, lever `r × n` and `I⁻¹ (r × n)` in world axes.
+struct JetParty<const N: usize> {
+    v: Vj<N>,
+    w: Vj<N>,
+    r: Vj<N>,
+    inv_mass: Sj<N>,
+    c: Vj<N>,
+    inv_inertia_c: Vj<N>,
+}
+
+impl<const N: usize> JetParty<N> {
+    /// `at`: the party's first tangent input (`δx`, `δθ`, `δv`, `δω`);
+    /// `pm`: its mass input, followed by its three principal moments.
+    fn new(p: &PartyCtx, at: usize, pm: usize, point: &Vj<N>, n: &Vj<N>) -> Self {
+        let r = point.sub(&Vj::input(p.state.x, at));
+        let c = r.cross(n);
+        // I⁻¹ y with I⁻¹ = R A D⁻¹ Aᵀ Rᵀ, R = (1 + [δθ]×) R₀, D = diag(I₁, I₂, I₃):
+        // d(I⁻¹y) = I⁻¹ dy + (I⁻¹[y]× − [I⁻¹y]×) dθ − Σ A_k (A_kᵀ y) dI_k / I_k².
+        let axes = p.state.q.to_rotation_matrix().matrix() * p.axes;
+        let d_inv = p.principal.map(|i| 1.0 / i);
+        let aty = axes.transpose() * c.v;
+        let inv_inertia = axes * Mat3::from_diagonal(&d_inv) * axes.transpose();
+        let y = axes * d_inv.component_mul(&aty);
+        let mut dy = inv_inertia * c.d;
+        let dtheta = inv_inertia * jet::skew(&c.v) - jet::skew(&y);
+        for k in 0..3 {
+            let mut col = dy.column_mut(at + 3 + k);
+            col += dtheta.column(k);
+            let mut col = dy.column_mut(pm + 1 + k);
+            col -= axes.column(k) * (aty[k] * d_inv[k] * d_inv[k]);
+        }
+        JetParty {
+            v: Vj::input(p.state.v, at + 6),
+            w: Vj::input(p.state.w, at + 9),
+            r,
+            inv_mass: Sj::input(p.mass, pm).recip(),
+            c,
+            inv_inertia_c: Vj { v: y, d: dy },
+        }
+    }
+
+    /// Velocity of the material point at the contact: `v + ω × r`.
+    fn contact_velocity(&self) -> Vj<N> {
+        self.v.add(&self.w.cross(&self.r))
     }
 }
 
@@ -318,7 +376,126 @@ impl ImpulseCtx {
 
     /// Jacobian of the model outputs with respect to its inputs (13 × inputs),
     /// in the friction mode chosen by [`ImpulseCtx::apply`].
+    ///
+    /// Frictionless impulses (the common case) take the hand-written chain
+    /// rule of [`ImpulseCtx::jacobian_jet`]; with friction, the generic model
+    /// is differentiated with dual numbers ([`ImpulseCtx::jacobian_dual`]).
     pub fn jacobian(&self) -> DMatrix<f64> {
+        if self.friction > 0.0 {
+            return self.jacobian_dual();
+        }
+        self.jacobian_jet()
+    }
+
+    /// The frictionless impulse map differentiated by hand with jets
+    /// (`sim::jet`); only the contact geometry — the feature model, written
+    /// once for every feature kind — goes through dual numbers, and only
+    /// along the 6 (or 12) configuration directions it depends on.
+    pub fn jacobian_jet(&self) -> DMatrix<f64> {
+        assert!(self.friction == 0.0, "the jet Jacobian is frictionless");
+        if self.b.is_some() {
+            let j = self.jet::<INPUTS_BODIES, 12>();
+            DMatrix::from_column_slice(OUTPUTS, INPUTS_BODIES, j.as_slice())
+        } else {
+            let j = self.jet::<INPUTS_OBSTACLE, 6>();
+            DMatrix::from_column_slice(OUTPUTS, INPUTS_OBSTACLE, j.as_slice())
+        }
+    }
+
+    /// Contact geometry with its derivatives along the configuration
+    /// inputs `(δx_a, δθ_a[, δx_b, δθ_b])`, spread into the `N` model inputs.
+    fn geometry_jet<const N: usize, const G: usize>(&self) -> (Sj<N>, Vj<N>, Vj<N>, Vj<N>) {
+        let seeds: Vec<DualSVec64<G>> = (0..G)
+            .map(|i| DualSVec64::new(0.0, Derivative::derivative_generic(Const::<G>, U1, i)))
+            .collect();
+        let pa = pose(&self.a, &seeds, 0);
+        let pb = match &self.b {
+            Some(b) => pose(b, &seeds, 6),
+            None => PoseT {
+                x: cv(&self.b_pose.translation.vector),
+                r: cm(self.b_pose.rotation.to_rotation_matrix().matrix()),
+            },
+        };
+        let geo = self.feature.evaluate(&pa, &pb);
+        // Geometry direction g is model input g for a, 12 + (g − 6) for b.
+        let col = |g: usize| if g < 6 { g } else { g + 6 };
+        let scalar = |x: &DualSVec64<G>| {
+            let mut s = Sj::<N>::constant(x.re);
+            let eps = x.eps.unwrap_generic(Const::<G>, U1);
+            for g in 0..G {
+                s.d[col(g)] = eps[g];
+            }
+            s
+        };
+        let vector = |x: &Vector3<DualSVec64<G>>| {
+            let mut v = Vj::<N>::constant(x.map(|c| c.re));
+            for k in 0..3 {
+                let eps = x[k].eps.unwrap_generic(Const::<G>, U1);
+                for g in 0..G {
+                    v.d[(k, col(g))] = eps[g];
+                }
+            }
+            v
+        };
+        (
+            scalar(&geo.distance),
+            vector(&geo.normal),
+            vector(&geo.point_a),
+            vector(&geo.point_b),
+        )
+    }
+
+    fn jet<const N: usize, const G: usize>(&self) -> SMatrix<f64, OUTPUTS, N> {
+        let p0 = self.param_offset();
+        let (distance, normal, point_a, point_b) = self.geometry_jet::<N, G>();
+        let mut n = normal;
+        if let Some(dev) = self.normal_dev {
+            let t1 = n.cross_const(&self.tangent_axis).normalize();
+            let t2 = n.cross(&t1);
+            n = n
+                .add(&t1.scale(&Sj::input(dev[0], p0)))
+                .add(&t2.scale(&Sj::input(dev[1], p0 + 1)))
+                .normalize();
+        }
+        let a = JetParty::<N>::new(&self.a, 0, p0 + 3, &point_a, &n);
+        let b = self
+            .b
+            .as_ref()
+            .map(|b| JetParty::<N>::new(b, 12, p0 + 7, &point_b, &n));
+        let mut v_rel = a.contact_velocity();
+        let mut nkn = a.inv_mass.add(&a.c.dot(&a.inv_inertia_c));
+        if let Some(b) = &b {
+            v_rel = v_rel.sub(&b.contact_velocity());
+            nkn = nkn.add(&b.inv_mass).add(&b.c.dot(&b.inv_inertia_c));
+        }
+        let vn = n.dot(&v_rel);
+        let sep = match self.min_separation {
+            Some(v) if -vn.v >= v => vn.neg(),
+            Some(v) => Sj::constant(v),
+            None => Sj::input(self.restitution, p0 + 2).mul(&vn).neg(),
+        };
+        // Frictionless: p = j n with j = (sep − v_n) / (n·K n), and
+        // `n·K n = 1/m_a + (r_a × n)·I_a⁻¹(r_a × n) (+ b's terms)`.
+        let j = sep.sub(&vn).div(&nkn);
+        let p = n.scale(&j);
+        let mut out = SMatrix::<f64, OUTPUTS, N>::zeros();
+        out.row_mut(0).copy_from(&distance.d);
+        out.fixed_rows_mut::<3>(1)
+            .copy_from(&a.v.add(&p.scale(&a.inv_mass)).d);
+        out.fixed_rows_mut::<3>(4)
+            .copy_from(&a.w.add(&a.inv_inertia_c.scale(&j)).d);
+        if let Some(b) = &b {
+            out.fixed_rows_mut::<3>(7)
+                .copy_from(&b.v.sub(&p.scale(&b.inv_mass)).d);
+            out.fixed_rows_mut::<3>(10)
+                .copy_from(&b.w.sub(&b.inv_inertia_c.scale(&j)).d);
+        }
+        out
+    }
+
+    /// Jacobian of the generic model by forward-mode dual numbers (any
+    /// friction mode); the reference the jet Jacobian is tested against.
+    pub fn jacobian_dual(&self) -> DMatrix<f64> {
         let z = self.input();
         if self.b.is_some() {
             let j = self.jac_n::<INPUTS_BODIES>(&z);
@@ -345,5 +522,177 @@ impl ImpulseCtx {
     /// Evaluate the model at arbitrary inputs (for finite-difference checks).
     pub fn evaluate(&self, z: &[f64]) -> Vec<f64> {
         self.model::<f64>(z, Some(self.stick)).0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::SideFeature;
+    use nalgebra::UnitQuaternion;
+
+    fn party(x: [f64; 3], axisangle: [f64; 3], v: [f64; 3], w: [f64; 3]) -> PartyCtx {
+        PartyCtx {
+            state: BodyState {
+                x: Vec3::from(x),
+                q: UnitQuaternion::from_scaled_axis(Vec3::from(axisangle)),
+                v: Vec3::from(v),
+                w: Vec3::from(w),
+            },
+            mass: 0.7,
+            principal: Vec3::new(0.011, 0.023, 0.029),
+            axes: *UnitQuaternion::from_scaled_axis(Vec3::new(0.2, -0.1, 0.4))
+                .to_rotation_matrix()
+                .matrix(),
+        }
+    }
+
+    fn point(p: [f64; 3], radius: f64) -> SideFeature {
+        SideFeature::Point {
+            p: Vec3::from(p),
+            radius,
+            vertices: Vec::new(),
+        }
+    }
+
+    fn line(point: [f64; 3], dir: [f64; 3]) -> SideFeature {
+        SideFeature::Line {
+            point: Vec3::from(point),
+            dir: Vec3::from(dir),
+            vertices: [0, 1],
+        }
+    }
+
+    fn plane(normal: [f64; 3], point: [f64; 3]) -> SideFeature {
+        SideFeature::Plane {
+            normal: Vec3::from(normal).normalize(),
+            point: Vec3::from(point),
+            vertices: Vec::new(),
+        }
+    }
+
+    /// Contacts of every kind the jet path handles: a body's vertex on a
+    /// tilted floor (with and without normal controls, and as a
+    /// micro-collision on both sides of its floor), a ball on a body's
+    /// face, two crossed edges, and two balls.
+    fn contexts() -> Vec<(&'static str, ImpulseCtx)> {
+        let a = party(
+            [0.1, 0.2, 0.35],
+            [0.3, -0.2, 0.5],
+            [0.4, -0.3, -2.5],
+            [3.0, -1.0, 2.0],
+        );
+        let b = party(
+            [0.12, 0.18, 0.0],
+            [-0.1, 0.2, 0.1],
+            [0.0, 0.1, 0.6],
+            [-1.0, 2.0, 0.5],
+        );
+        let ctx = |feature: FeaturePair, b: Option<PartyCtx>| ImpulseCtx {
+            feature,
+            a: a.clone(),
+            b,
+            b_pose: Isometry3::rotation(Vec3::new(0.05, -0.03, 0.0)),
+            restitution: 0.6,
+            normal_dev: None,
+            tangent_axis: Vec3::x(),
+            friction: 0.0,
+            stick: false,
+            min_separation: None,
+        };
+        let pair = |fa, fb| FeaturePair {
+            a: fa,
+            b: fb,
+            part_a: 0,
+            part_b: 0,
+            sign: 1.0,
+        };
+        let vertex_floor = ctx(
+            pair(
+                point([0.05, -0.1, -0.3], 0.0),
+                plane([0.0, 0.0, 1.0], [0.0; 3]),
+            ),
+            None,
+        );
+        let mut controlled = vertex_floor.clone();
+        controlled.normal_dev = Some([0.1, -0.2]);
+        let mut micro_fast = vertex_floor.clone();
+        micro_fast.min_separation = Some(1e-3);
+        let mut micro_slow = vertex_floor.clone();
+        micro_slow.min_separation = Some(10.0);
+        let ball_face = ctx(
+            pair(
+                point([0.0, 0.0, -0.05], 0.3),
+                plane([0.1, 0.0, 1.0], [0.0, 0.0, 0.02]),
+            ),
+            Some(b.clone()),
+        );
+        let edges = ctx(
+            pair(
+                line([0.0, 0.0, -0.2], [1.0, 0.2, 0.0]),
+                line([0.0, 0.0, 0.15], [0.1, 1.0, 0.1]),
+            ),
+            Some(b.clone()),
+        );
+        let mut balls = ctx(pair(point([0.0; 3], 0.2), point([0.0; 3], 0.15)), Some(b));
+        balls.normal_dev = Some([-0.05, 0.3]);
+        vec![
+            ("vertex on floor", vertex_floor),
+            ("with normal controls", controlled),
+            ("micro-collision, fast", micro_fast),
+            ("micro-collision, slow", micro_slow),
+            ("ball on a face", ball_face),
+            ("crossed edges", edges),
+            ("two balls", balls),
+        ]
+    }
+
+    /// The hand-written chain rule agrees with dual numbers through the
+    /// generic model to round-off, for every input (state, normal
+    /// deviation, restitution, masses, inertias).
+    #[test]
+    fn the_jet_jacobian_equals_the_dual_number_jacobian() {
+        for (name, ctx) in contexts() {
+            let (jet, dual) = (ctx.jacobian_jet(), ctx.jacobian_dual());
+            let scale = dual.norm();
+            assert!(scale > 1.0, "{name}: a degenerate case");
+            for c in 0..dual.ncols() {
+                let err = (jet.column(c) - dual.column(c)).norm();
+                assert!(
+                    err < 1e-12 * scale,
+                    "{name}, input {c}: {err:.2e}\n{}\n{}",
+                    jet.column(c).transpose(),
+                    dual.column(c).transpose()
+                );
+            }
+        }
+    }
+
+    /// And both are the derivative of the map that is applied: central
+    /// differences of `evaluate`, with the rotation inputs perturbing the
+    /// orientation as the model does.
+    #[test]
+    fn the_impulse_jacobian_matches_central_differences() {
+        for (name, ctx) in contexts() {
+            let j = ctx.jacobian();
+            let z = ctx.input();
+            for c in 0..z.len() {
+                let h = 1e-6 * z[c].abs().max(1.0);
+                let (mut zp, mut zm) = (z.clone(), z.clone());
+                zp[c] += h;
+                zm[c] -= h;
+                let (fp, fm) = (ctx.evaluate(&zp), ctx.evaluate(&zm));
+                for r in 0..OUTPUTS {
+                    let fd = (fp[r] - fm[r]) / (2.0 * h);
+                    // The model perturbs rotations to first order only, so
+                    // compare at the finite-difference error level.
+                    assert!(
+                        (fd - j[(r, c)]).abs() < 1e-6 * (1.0 + fd.abs()),
+                        "{name}: ∂out{r}/∂in{c}: {fd} vs {}",
+                        j[(r, c)]
+                    );
+                }
+            }
+        }
     }
 }
