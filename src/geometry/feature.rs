@@ -323,6 +323,37 @@ impl FeaturePair {
         }
     }
 
+    /// The contact modelled as `a`'s material point at the witness point
+    /// `contact.point_a` against `b`'s tangent plane at `contact.point_b`
+    /// (normal `contact.normal`). Its distance has the same first
+    /// derivative as the true contact's; used when the classified features
+    /// touch at an end of one of them, where their extrapolated model
+    /// misplaces the point.
+    pub fn on_tangent_plane(
+        &self,
+        pose_a: &Isometry3<f64>,
+        pose_b: &Isometry3<f64>,
+        contact: &Contact,
+    ) -> FeaturePair {
+        FeaturePair {
+            a: SideFeature::Point {
+                p: pose_a
+                    .inverse_transform_point(&contact.point_a.into())
+                    .coords,
+                radius: 0.0,
+                vertices: Vec::new(),
+            },
+            b: SideFeature::Plane {
+                normal: pose_b.inverse_transform_vector(&contact.normal),
+                point: pose_b
+                    .inverse_transform_point(&contact.point_b.into())
+                    .coords,
+                vertices: Vec::new(),
+            },
+            ..self.clone()
+        }
+    }
+
     /// Evaluate the contact geometry of this feature pair at the given poses.
     /// Generic in the scalar so that forward-mode dual numbers give exact
     /// derivatives of the distance, normal and contact points.

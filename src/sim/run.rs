@@ -659,6 +659,29 @@ impl Sim<'_> {
             }
         }
         if res.approach >= 0.0 {
+            // The feature model extrapolates its features (an edge's line,
+            // a face's plane): when the features really touch at an end of
+            // one of them — an edge's interior resting on a corner — its
+            // point can be separating while the material point at the
+            // actual contact approaches. The search skipped such a contact
+            // for 1e-8 s at a time while it sank, a hundred thousand times
+            // (scissors settling on the coatrack's lip). The actual contact
+            // point on b's tangent plane takes the impulse then.
+            let at_contact = |s: &BodyState, p: &Vec3| s.v + s.w.cross(&(p - s.x));
+            let vb = sb.map_or(Vec3::zeros(), |s| at_contact(&s, &contact.point_b));
+            if n.dot(&(at_contact(&sa, &contact.point_a) - vb)) < 0.0 {
+                let tangent = feature.on_tangent_plane(&iso(&sa), &pose_b, contact);
+                ctx.feature = tangent.clone();
+                let r2 = ctx.apply();
+                if r2.approach < 0.0 {
+                    feature = tangent;
+                    res = r2;
+                } else {
+                    ctx.feature = feature.clone();
+                }
+            }
+        }
+        if res.approach >= 0.0 {
             // Touching without approaching (a graze at the root): no impulse;
             // resume this pair's search just past the contact.
             let v = res.separation.abs().max(1e-3);
