@@ -498,10 +498,19 @@ impl FeaturePair {
                 let one: T = convert(1.0);
                 let (x, y, z) = (local.x.clone(), local.y.clone(), local.z.clone());
                 let mut s: T = convert(*foot_hint);
-                for _ in 0..8 {
+                // Newton on the foot, from the hint (the converged foot at
+                // classification). One step from a converged value already
+                // carries the exact derivative (implicit function theorem),
+                // so stop once the residual is at round-off.
+                let tol: T =
+                    convert(1e-15 * (1.0 + local.x.clone().abs().to_subset().unwrap_or(0.0)));
+                for iteration in 0..8 {
                     let g = two.clone() * k.clone() * k.clone() * s.clone() * s.clone() * s.clone()
                         + (one.clone() + two.clone() * k.clone() * z.clone()) * s.clone()
                         - x.clone();
+                    if iteration > 0 && g.clone().abs() <= tol {
+                        break;
+                    }
                     let dg = convert::<f64, T>(6.0) * k.clone() * k.clone() * s.clone() * s.clone()
                         + one.clone()
                         + two.clone() * k.clone() * z.clone();
