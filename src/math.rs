@@ -6,6 +6,7 @@
 //! `R' = R exp([η]×)`. The exponential-map vector `r` of an orientation gives
 //! `R = exp([r]×)` and `δθ = J_l(r) δr`.
 
+pub mod nnls;
 mod so3;
 
 pub use so3::{

@@ -19,6 +19,7 @@ mod jet;
 mod rest;
 mod run;
 mod state;
+mod statics;
 mod trajectory;
 
 pub use dynamics::BodyDynamics;

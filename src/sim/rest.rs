@@ -7,22 +7,25 @@
 //! ends, from the post-impulse state. `v_r` is the rest speed in force for
 //! the body: the scene's `rest_speed`, raised to `√(2 |g| h)` so that no
 //! hop is lower than `h = HOP · reach` (3e-5 of the body's size: invisible,
-//! and hops below it would only cost events). A *support point* is a body
-//! vertex (or a ball's lowest point) within the band `δ = 10 v_r² / |g|`
-//! (plus the event skin) of an obstacle's surface: a body whose points all
-//! move slower than `v_r` cannot rock higher than about `v_r² / 2g`, so
-//! every vertex of the face it lies on is inside the band.
+//! and hops below it would only cost events). A *support point* is a
+//! corner of a contact patch (a body vertex, an obstacle vertex, an edge
+//! crossing, or a ball's lowest point; see [`near_points`]) within the band
+//! `δ = 10 v_r² / |g|` (plus the event skin) of an obstacle's surface: a
+//! body whose points all move slower than `v_r` cannot rock higher than
+//! about `v_r² / 2g`, so every corner of the patch it lies on is inside the
+//! band.
 //!
 //! 1. **Rest** — every point of the body moves slower than `v_r`, and the
-//!    body is *statically supported*: the vertical line through its centre
-//!    of mass meets the convex hull of the support points whose surface
-//!    normals lie in the friction cone around "up" (exactly up without
-//!    friction). The body is frozen. Without gravity any slow body rests.
-//!    A slow body leaning on one vertex or edge with its centre of mass
-//!    outside is *not* frozen: it topples. (The old rule froze any body
-//!    whose contact point separated slower than the rest speed, leaving
-//!    spinning, tumbling bodies frozen tilted on one corner, or mid-air
-//!    against walls.)
+//!    body is *statically held*: contact forces at the support points on
+//!    every obstacle, inside their friction cones, can balance its weight
+//!    (`sim::statics`; without friction: the centre of mass is over the
+//!    support polygon). The body is frozen. Without gravity any slow body
+//!    rests. A slow body leaning on one vertex or edge with its centre of
+//!    mass outside is *not* frozen: it topples; a ladder or a pair of
+//!    scissors wedged against a wall by friction is. (The old rule froze
+//!    any body whose contact point separated slower than the rest speed,
+//!    leaving spinning, tumbling bodies frozen tilted on one corner, or
+//!    mid-air against walls.)
 //! 2. **Slide** — against a half-space only: the normal speeds of all
 //!    support points are below `v_r` and the centre of mass projects (along
 //!    the plane normal) into their hull, which is a face (three or more
@@ -54,6 +57,7 @@
 
 use super::dynamics::BodyDynamics;
 use super::state::BodyState;
+use super::statics::{self, Support};
 use crate::geometry::{NearPoint, PartKind, near_points};
 use crate::math::{Mat3, Vec3};
 use crate::scene::Scene;
@@ -273,25 +277,23 @@ pub(crate) fn decide(i: &Impact<'_>) -> Mode {
         return if slow { Mode::Rest } else { Mode::Bounce };
     }
     let down = g / gn;
-    // Points that can hold the body up: normals within the friction cone
-    // around "up" (exactly up without friction).
+    // Whether contact forces inside the friction cones of the support
+    // points (on every obstacle) can balance the weight.
     let mut held_by = Vec::new();
     for o in 0..scene.obstacles.len() {
-        let mu = pair_friction(scene, i.body, o);
-        let cos_max = if mu > 0.0 {
-            1.0 / (1.0 + mu * mu).sqrt()
-        } else {
-            1.0 - 1e-9
-        };
+        let friction = pair_friction(scene, i.body, o);
         held_by.extend(
             supports(scene, i.body, o, s, i.band)
                 .into_iter()
-                .filter(|p| -p.normal.dot(&down) >= cos_max)
-                .map(|p| p.point),
+                .map(|p| Support {
+                    point: p.point,
+                    normal: p.normal,
+                    friction,
+                }),
         );
     }
-    let held = over_hull(&held_by, &s.x, &down, tol).0;
-    if slow && held {
+    let held = slow && statics::held(&held_by, &s.x, &down, i.dynamics.reach);
+    if held {
         return Mode::Rest;
     }
     let bounce = Mode::Bounce;
