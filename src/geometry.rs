@@ -13,6 +13,9 @@ mod contact;
 mod feature;
 mod shapes;
 
-pub use contact::{Contact, NearPoint, contact, near_points, part_contacts, point_parabola};
+pub use contact::{
+    Contact, Corner, NearPoint, contact, near_points, part_contacts, part_near_points,
+    point_parabola,
+};
 pub use feature::{ContactGeometry, FeaturePair, PoseT, SideFeature};
 pub use shapes::{Geometry, GeometryError, MassProps, Part, PartKind};

@@ -1955,3 +1955,88 @@ fn regression_an_edge_resting_on_a_corner_was_skipped_a_hundred_thousand_times()
         "{impulses} impulse evaluations for {events} events: contacts are being skipped"
     );
 }
+
+/// A plank lying across two supports touches each in a rectangle whose
+/// corners are crossings of its edges with the supports' edges; the rest
+/// rule only knew the bodies' vertices, found no support point under the
+/// plank, and it chattered on the supports to the end of the motion (180
+/// micro-collisions in 0.75 s). Corner by corner, the landing impulses also
+/// rocked it and, with friction at the off-centre corners, turned and slid
+/// it sideways (the paper plank session ended 3.5 cm off its line, turned
+/// 4°). Now the patch lands as one impulse at its centroid and the plank
+/// rests where it landed, square to the supports.
+#[test]
+fn regression_a_plank_lying_across_two_supports_never_came_to_rest() {
+    let s = load("plank-on-supports.toml");
+    let tr = run_ok(&s);
+    let rest = tr
+        .events
+        .iter()
+        .position(|e| e.rest)
+        .expect("the plank comes to rest");
+    assert!(rest < 30, "at rest after {rest} events");
+    assert!(
+        tr.events[0].feature.patch.len() >= 2,
+        "the landing is a patch impact: {}",
+        tr.events[0].key
+    );
+    let end = tr.state(0, s.duration, StateSide::After);
+    let yaw = (end.q * Vec3::x()).y.atan2((end.q * Vec3::x()).x);
+    assert!(
+        end.x.y.abs() < 2e-3 && yaw.abs() < 5e-3,
+        "the symmetric landing turned or slid the plank: y = {:.2e} m, yaw = {:.2e} rad",
+        end.x.y,
+        yaw
+    );
+    // Frozen at an impact within the support band (10 v_r² / g = 2.5 mm).
+    let tilt = (end.q * Vec3::z()).z.acos().to_degrees();
+    assert!(
+        (end.x.z - 0.53).abs() < 1e-3 && tilt < 0.5,
+        "lying on the supports: z = {}, tilted {tilt:.3}°",
+        end.x.z
+    );
+    assert!(lowest_over_run(&s, &tr, 400) > -SKIN);
+}
+
+/// The rest rule only counted support points whose normals lay in the
+/// friction cone around "up", so a body held by friction against a wall —
+/// a ladder, scissors wedged between a coatrack's peg and its pole — was
+/// never at rest and chattered to the end of the motion. Rest now asks
+/// whether contact forces inside the friction cones can balance the weight
+/// (`sim::statics`): the ladder stands with friction 0.6 and slides down
+/// without friction.
+#[test]
+fn regression_a_ladder_held_by_friction_chattered_against_the_wall() {
+    let s = load("ladder.toml");
+    let tr = run_ok(&s);
+    let rest = tr.events.iter().find(|e| e.rest).expect("the ladder rests");
+    assert!(tr.events.len() < 30, "{} events", tr.events.len());
+    assert!(
+        tr.events
+            .iter()
+            .any(|e| e.b == nudge::sim::Party::Obstacle(1)),
+        "it leans on the wall"
+    );
+    let end = tr.state(0, s.duration, StateSide::After);
+    let tilt = (end.q * Vec3::x()).z.asin().to_degrees();
+    assert!(
+        (tilt - 60.0).abs() < 1.0 && end.v == Vec3::zeros(),
+        "standing at {tilt:.2}° from {:.3} s",
+        rest.t
+    );
+    // Frictionless, nothing holds it: it slides down to lie on the floor.
+    let mut s = s;
+    s.effects.friction = false;
+    let tr = run_ok(&s);
+    let end = tr.state(0, s.duration, StateSide::After);
+    assert!(
+        (end.x.z - 0.02).abs() < 1e-4,
+        "lying on the floor, z = {}",
+        end.x.z
+    );
+    assert!(
+        tr.events.iter().all(|e| !e.rest),
+        "never at rest while sliding"
+    );
+    assert!(lowest_over_run(&s, &tr, 400) > -SKIN);
+}

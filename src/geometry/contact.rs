@@ -229,13 +229,56 @@ pub struct NearPoint {
     pub normal: Vec3,
     /// Signed distance of the point from `b`, m (`< 0` inside).
     pub distance: f64,
+    /// Which features make the point, so that it can be followed as the
+    /// owners move.
+    pub corner: Corner,
 }
 
-/// Every hull vertex of `a` (and the closest point of each of `a`'s balls)
-/// within `band` (m) of the surface of `b`: the points on which `a` can
-/// lean on `b`. A body resting on a face yields all the face's vertices,
-/// which is what a support polygon needs (a single closest-point query
-/// gives only one of them).
+/// The features that make a corner of a contact patch, with their
+/// geometry in the owners' frames (`a`'s for `a`'s features, `b`'s for
+/// `b`'s), so the corner can be re-evaluated at other poses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Corner {
+    /// Hull vertex `index` of `a`'s part, at `p`.
+    A { index: usize, p: Vec3 },
+    /// Hull vertex `index` of `b`'s part, at `p` (the corner is its
+    /// projection on `a`).
+    B { index: usize, p: Vec3 },
+    /// Edge `ea` of `a`'s part (end points `a`) crossing edge `eb` of
+    /// `b`'s (end points `b`); the corner is the closest point on `a`'s
+    /// edge.
+    Crossing {
+        ea: usize,
+        eb: usize,
+        a: [Vec3; 2],
+        b: [Vec3; 2],
+    },
+    /// The closest point of one of `a`'s balls.
+    Ball,
+}
+
+impl Corner {
+    /// A short stable name: `a3` (vertex of a), `b5` (vertex of b), `x2.7`
+    /// (edge 2 of a across edge 7 of b).
+    pub fn name(&self) -> String {
+        match self {
+            Corner::A { index, .. } => format!("a{index}"),
+            Corner::B { index, .. } => format!("b{index}"),
+            Corner::Crossing { ea, eb, .. } => format!("x{ea}.{eb}"),
+            Corner::Ball => "ball".to_string(),
+        }
+    }
+}
+
+/// The corners of the contact patches of `a` on `b`: every point within
+/// `band` (m) on which `a` can lean on `b`, which is what a support polygon
+/// needs (a single closest-point query gives only one of them). A patch
+/// between convex pieces is a convex polygon whose corners are of three
+/// kinds, all listed: hull vertices of `a` (and the closest point of each
+/// of `a`'s balls) near `b`; hull vertices of `b` near `a` (a plank lying
+/// across the corner of a support); and crossings of an edge of `a` with an
+/// edge of `b` (a plank lying across a support's top face touches it in a
+/// rectangle whose corners are neither's vertices).
 pub fn near_points(
     a: &Geometry,
     pose_a: &Isometry3<f64>,
@@ -245,62 +288,178 @@ pub fn near_points(
 ) -> Vec<NearPoint> {
     let mut out = Vec::new();
     for pa in &a.parts {
-        let wa = pose_a * pa.offset;
-        // Candidate points of a with the radius to subtract.
-        let points: Vec<(Vec3, f64)> = match &pa.kind {
-            PartKind::Ball { radius } => vec![(wa.translation.vector, *radius)],
-            PartKind::Convex { vertices, .. } => vertices
-                .iter()
-                .map(|v| ((wa * to_point(v)).coords, 0.0))
-                .collect(),
-            _ => continue,
-        };
         for pb in &b.parts {
-            let wb = pose_b * pb.offset;
-            for &(p, radius) in &points {
-                let found = match &pb.kind {
-                    PartKind::HalfSpace { normal } => {
-                        let n = wb.rotation * normal;
-                        Some((n.dot(&(p - wb.translation.vector)), n))
-                    }
-                    PartKind::Parabola { curvature, .. } => {
-                        let (d, n, _) = parabola_point(&wb, *curvature, &p);
-                        Some((d, n))
-                    }
-                    _ => pb.shape.as_ref().and_then(|shape| {
-                        let proj = shape.project_point(&wb, &to_point(&p), false);
-                        let d = p - proj.point.coords;
-                        let len = d.norm();
-                        let sign = if proj.is_inside { -1.0 } else { 1.0 };
-                        if len > 1e-12 {
-                            Some((sign * len, d / len * sign))
-                        } else {
-                            // On the surface: take the normal of the part pair's contact.
-                            let probe = Part {
-                                kind: PartKind::Ball { radius: 1e-9 },
-                                offset: Isometry3::identity(),
-                                shape: Some(parry3d_f64::shape::SharedShape::ball(1e-9)),
-                            };
-                            let at = Isometry3::translation(p.x, p.y, p.z);
-                            part_contact(&probe, &at, pb, pose_b, f64::INFINITY)
-                                .map(|c| (0.0, c.normal))
-                        }
-                    }),
-                };
-                if let Some((d, n)) = found {
-                    let d = d - radius;
-                    if d <= band && d.is_finite() && n.iter().all(|v| v.is_finite()) {
-                        out.push(NearPoint {
-                            point: p - n * radius,
-                            normal: n,
-                            distance: d,
-                        });
-                    }
-                }
-            }
+            out.extend(part_near_points(pa, pose_a, pb, pose_b, band));
         }
     }
     out
+}
+
+/// [`near_points`] of one part of `a` (placed by its owner's `pose_a`) on
+/// one part of `b`.
+pub fn part_near_points(
+    pa: &Part,
+    pose_a: &Isometry3<f64>,
+    pb: &Part,
+    pose_b: &Isometry3<f64>,
+    band: f64,
+) -> Vec<NearPoint> {
+    let mut out = Vec::new();
+    let wa = pose_a * pa.offset;
+    // Candidate points of a with the radius to subtract.
+    let points: Vec<(Vec3, f64, Corner)> = match &pa.kind {
+        PartKind::Ball { radius } => vec![(wa.translation.vector, *radius, Corner::Ball)],
+        PartKind::Convex { vertices, .. } => vertices
+            .iter()
+            .enumerate()
+            .map(|(index, v)| {
+                let p = (pa.offset * to_point(v)).coords;
+                ((wa * to_point(v)).coords, 0.0, Corner::A { index, p })
+            })
+            .collect(),
+        _ => return out,
+    };
+    let wb = pose_b * pb.offset;
+    for &(p, radius, corner) in &points {
+        let found = match &pb.kind {
+            PartKind::HalfSpace { normal } => {
+                let n = wb.rotation * normal;
+                Some((n.dot(&(p - wb.translation.vector)), n))
+            }
+            PartKind::Parabola { curvature, .. } => {
+                let (d, n, _) = parabola_point(&wb, *curvature, &p);
+                Some((d, n))
+            }
+            _ => pb.shape.as_ref().and_then(|shape| {
+                let proj = shape.project_point(&wb, &to_point(&p), false);
+                let d = p - proj.point.coords;
+                let len = d.norm();
+                let sign = if proj.is_inside { -1.0 } else { 1.0 };
+                if len > 1e-12 {
+                    Some((sign * len, d / len * sign))
+                } else {
+                    // On the surface: take the normal of the part pair's contact.
+                    let probe = Part {
+                        kind: PartKind::Ball { radius: 1e-9 },
+                        offset: Isometry3::identity(),
+                        shape: Some(parry3d_f64::shape::SharedShape::ball(1e-9)),
+                    };
+                    let at = Isometry3::translation(p.x, p.y, p.z);
+                    part_contact(&probe, &at, pb, pose_b, f64::INFINITY).map(|c| (0.0, c.normal))
+                }
+            }),
+        };
+        if let Some((d, n)) = found {
+            let d = d - radius;
+            if d <= band && d.is_finite() && n.iter().all(|v| v.is_finite()) {
+                out.push(NearPoint {
+                    point: p - n * radius,
+                    normal: n,
+                    distance: d,
+                    corner,
+                });
+            }
+        }
+    }
+    convex_patch_corners(pa, &wa, pb, &wb, band, &mut out);
+    out
+}
+
+/// The patch corners between two convex pieces that are not vertices of
+/// `a`: vertices of `b` near `a`, and edge–edge crossings (see
+/// [`near_points`]). Every corner takes the normal of the pieces' closest
+/// approach (two convex pieces touch in one plane).
+fn convex_patch_corners(
+    pa: &Part,
+    wa: &Isometry3<f64>,
+    pb: &Part,
+    wb: &Isometry3<f64>,
+    band: f64,
+    out: &mut Vec<NearPoint>,
+) {
+    let (
+        PartKind::Convex {
+            vertices: va,
+            edges: ea,
+        },
+        PartKind::Convex {
+            vertices: vb,
+            edges: eb,
+        },
+        Some(sa),
+        Some(sb),
+    ) = (&pa.kind, &pb.kind, pa.shape.as_ref(), pb.shape.as_ref())
+    else {
+        return;
+    };
+    let Ok(Some(c)) = query::contact(wa, sa.as_ref(), wb, sb.as_ref(), band) else {
+        return;
+    };
+    // normal1 points from a towards b; NearPoint normals point from b to a.
+    let n = -c.normal1.into_inner();
+    if !n.iter().all(|v| v.is_finite()) {
+        return;
+    }
+    let wva: Vec<Vec3> = va.iter().map(|v| (wa * to_point(v)).coords).collect();
+    let wvb: Vec<Vec3> = vb.iter().map(|v| (wb * to_point(v)).coords).collect();
+    let owner_a = |i: usize| (pa.offset * to_point(&va[i])).coords;
+    let owner_b = |i: usize| (pb.offset * to_point(&vb[i])).coords;
+    for (index, p) in wvb.iter().enumerate() {
+        let proj = sa.project_point(wa, &to_point(p), false);
+        let gap = (proj.point.coords - p).norm();
+        let d = if proj.is_inside { -gap } else { gap };
+        if d <= band && d.is_finite() {
+            out.push(NearPoint {
+                point: proj.point.coords,
+                normal: n,
+                distance: d,
+                corner: Corner::B {
+                    index,
+                    p: owner_b(index),
+                },
+            });
+        }
+    }
+    for (i, e) in ea.iter().enumerate() {
+        let (p0, p1) = (wva[e[0]], wva[e[1]]);
+        for (j, f) in eb.iter().enumerate() {
+            let Some((s, t)) = segment_crossing(&p0, &p1, &wvb[f[0]], &wvb[f[1]]) else {
+                continue;
+            };
+            let on_a = p0 + (p1 - p0) * s;
+            let on_b = wvb[f[0]] + (wvb[f[1]] - wvb[f[0]]) * t;
+            let d = n.dot(&(on_a - on_b));
+            if d.abs() <= band && (on_a - on_b).norm() <= band {
+                out.push(NearPoint {
+                    point: on_a,
+                    normal: n,
+                    distance: d,
+                    corner: Corner::Crossing {
+                        ea: i,
+                        eb: j,
+                        a: [owner_a(e[0]), owner_a(e[1])],
+                        b: [owner_b(f[0]), owner_b(f[1])],
+                    },
+                });
+            }
+        }
+    }
+}
+
+/// The parameters `(s, t)` of the closest points of two non-parallel
+/// segments `p0 + s (p1 − p0)` and `q0 + t (q1 − q0)` when both lie strictly
+/// inside their segments (else the closest approach is at an end point,
+/// which the vertex cases cover).
+fn segment_crossing(p0: &Vec3, p1: &Vec3, q0: &Vec3, q1: &Vec3) -> Option<(f64, f64)> {
+    let (u, v, w) = (p1 - p0, q1 - q0, p0 - q0);
+    let (a, b, c, d, e) = (u.dot(&u), u.dot(&v), v.dot(&v), u.dot(&w), v.dot(&w));
+    let den = a * c - b * b;
+    if den <= 1e-12 * a * c {
+        return None;
+    }
+    let s = (b * e - c * d) / den;
+    let t = (a * e - b * d) / den;
+    (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0).then_some((s, t))
 }
 
 /// The closest contact between two geometries placed at `pose_a` and
@@ -338,6 +497,51 @@ mod tests {
 
     fn at(x: f64, y: f64, z: f64) -> Isometry3<f64> {
         Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::identity())
+    }
+
+    /// A plank lying across a narrower support touches it in a rectangle
+    /// whose four corners are crossings of the plank's long edges with the
+    /// support's top edges: all four are found, and nothing else (no
+    /// diagonal of a box face, no vertex of either box is in the patch).
+    #[test]
+    fn a_plank_across_a_support_touches_it_at_four_edge_crossings() {
+        let plank = Geometry::cuboid(Vec3::new(0.6, 0.1, 0.03)).unwrap();
+        let support = Geometry::cuboid(Vec3::new(0.05, 0.2, 0.25)).unwrap();
+        let near = near_points(
+            &plank,
+            &at(0.3, 0.0, 0.53),
+            &support,
+            &at(0.0, 0.0, 0.25),
+            1e-6,
+        );
+        assert_eq!(near.len(), 4, "{near:?}");
+        for w in [[-0.05, -0.1], [-0.05, 0.1], [0.05, -0.1], [0.05, 0.1]] {
+            assert!(
+                near.iter()
+                    .any(|p| (p.point.x - w[0]).abs() < 1e-12 && (p.point.y - w[1]).abs() < 1e-12),
+                "no corner at {w:?}: {near:?}"
+            );
+        }
+        assert!(
+            near.iter()
+                .all(|p| matches!(p.corner, Corner::Crossing { .. }))
+        );
+        assert!(
+            near.iter()
+                .all(|p| (p.normal - Vec3::z()).norm() < 1e-9 && p.distance.abs() < 1e-9)
+        );
+        // The support's corner under a plank lying over it is a vertex of b.
+        let near = near_points(
+            &plank,
+            &at(0.6, 0.25, 0.53),
+            &support,
+            &at(0.0, 0.0, 0.25),
+            1e-6,
+        );
+        assert!(
+            near.iter().any(|p| matches!(p.corner, Corner::B { .. })),
+            "{near:?}"
+        );
     }
 
     /// parry's `query::contact` reported −2.5 for a unit ball 1.5 above the

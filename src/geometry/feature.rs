@@ -1,4 +1,4 @@
-use super::contact::{Contact, point_parabola};
+use super::contact::{Contact, Corner, point_parabola};
 use super::shapes::{Geometry, PartKind};
 use crate::math::Vec3;
 use nalgebra::{Isometry3, Matrix3, RealField, Vector3, convert};
@@ -44,6 +44,11 @@ pub struct FeaturePair {
     pub part_b: usize,
     /// Orientation of the edge–edge normal relative to `d_a × d_b`.
     pub sign: f64,
+    /// The corners of the contact patch when the contact is a whole patch
+    /// hit at once (see [`FeaturePair::at_patch`]): the impulse acts at
+    /// their centroid; the distance and normal stay those of the touching
+    /// features. Empty for a contact of single features.
+    pub patch: Vec<Corner>,
 }
 
 /// A pose with a generic scalar (so dual numbers can flow through it).
@@ -143,6 +148,29 @@ fn side(g: &Geometry, part: usize, pose: &Isometry3<f64>, towards: &Vec3) -> Sid
     }
 }
 
+/// A patch corner's position (world) at the owners' poses.
+fn corner_point<T: RealField>(corner: &Corner, pa: &PoseT<T>, pb: &PoseT<T>) -> Vector3<T> {
+    match corner {
+        Corner::A { p, .. } => world_point(pa, p),
+        Corner::B { p, .. } => world_point(pb, p),
+        Corner::Crossing { a, b, .. } => {
+            // The point of a's edge line closest to b's edge line.
+            let p = world_point(pa, &a[0]);
+            let u = world_dir(pa, &(a[1] - a[0]));
+            let q = world_point(pb, &b[0]);
+            let v = world_dir(pb, &(b[1] - b[0]));
+            let w = &p - &q;
+            let (uu, uv, vv) = (u.dot(&u), u.dot(&v), v.dot(&v));
+            let (uw, vw) = (u.dot(&w), v.dot(&w));
+            let den = uu * vv.clone() - uv.clone() * uv.clone();
+            let s = (uv * vw - vv * uw) / den;
+            p + u * s
+        }
+        // Balls never form patches (a ball touches in one point).
+        Corner::Ball => world_point(pa, &Vec3::zeros()),
+    }
+}
+
 /// Reduce a feature to a material point (its centroid).
 fn as_point(f: &SideFeature) -> SideFeature {
     match f {
@@ -228,6 +256,7 @@ impl FeaturePair {
             part_a: c.part_a,
             part_b: c.part_b,
             sign,
+            patch: Vec::new(),
         }
     }
 
@@ -267,18 +296,27 @@ impl FeaturePair {
                 SideFeature::Parabola { .. } => "parabola".to_string(),
             }
         }
-        format!(
+        let key = format!(
             "{}:{}/{}:{}",
             self.part_a,
             name(&self.a),
             self.part_b,
             name(&self.b)
-        )
+        );
+        if self.patch.is_empty() {
+            key
+        } else {
+            let corners: Vec<String> = self.patch.iter().map(Corner::name).collect();
+            format!("{key}@{}", corners.join(","))
+        }
     }
 
     /// Number of hull vertices touching at once (more than one means a
     /// simultaneous contact resolved as one impulse at their centroid).
     pub fn simultaneous(&self) -> usize {
+        if !self.patch.is_empty() {
+            return self.patch.len();
+        }
         match (&self.a, &self.b) {
             (SideFeature::Point { vertices, .. }, _) if vertices.len() > 1 => vertices.len(),
             (_, SideFeature::Point { vertices, .. }) if vertices.len() > 1 => vertices.len(),
@@ -319,6 +357,7 @@ impl FeaturePair {
                 radius: 0.0,
                 vertices: vec![vertex],
             },
+            patch: Vec::new(),
             ..self.clone()
         }
     }
@@ -350,6 +389,23 @@ impl FeaturePair {
                     .coords,
                 vertices: Vec::new(),
             },
+            patch: Vec::new(),
+            ..self.clone()
+        }
+    }
+
+    /// A whole contact patch hit at once (an edge or a face landing on a
+    /// face, a plank across a support): the same touching features — whose
+    /// distance is the event function and whose normal the impulse takes —
+    /// with the impulse at the centroid of the patch's `corners`. One
+    /// impulse there is the simultaneous impact of the corners; taking
+    /// them one by one instead depends on their order and rocks and turns
+    /// the body (friction at an off-centre corner). The centroid follows
+    /// each corner's features as the owners move, so the collision
+    /// Jacobian stays exact.
+    pub fn at_patch(&self, corners: Vec<Corner>) -> FeaturePair {
+        FeaturePair {
+            patch: corners,
             ..self.clone()
         }
     }
@@ -358,6 +414,21 @@ impl FeaturePair {
     /// Generic in the scalar so that forward-mode dual numbers give exact
     /// derivatives of the distance, normal and contact points.
     pub fn evaluate<T: RealField>(&self, pa: &PoseT<T>, pb: &PoseT<T>) -> ContactGeometry<T> {
+        let mut geo = self.evaluate_features(pa, pb);
+        if !self.patch.is_empty() {
+            let mut sum = Vector3::<T>::zeros();
+            for corner in &self.patch {
+                sum += corner_point(corner, pa, pb);
+            }
+            let centroid = sum / convert::<f64, T>(self.patch.len() as f64);
+            geo.point_b = &centroid - &geo.normal * geo.distance.clone();
+            geo.point_a = centroid;
+        }
+        geo
+    }
+
+    /// [`FeaturePair::evaluate`] of the touching features alone.
+    fn evaluate_features<T: RealField>(&self, pa: &PoseT<T>, pb: &PoseT<T>) -> ContactGeometry<T> {
         use SideFeature::*;
         match (&self.a, &self.b) {
             (Point { p, radius, .. }, Plane { normal, point, .. }) => {

@@ -119,9 +119,13 @@ impl Part {
         if verts.len() < 4 {
             return Err(GeometryError::DegenerateHull { count });
         }
+        // parry keeps the diagonals of the triangles it merged into flat
+        // polygonal faces (both their sides then lie on one face): they are
+        // not edges of the solid.
         let edges = hull
             .edges()
             .iter()
+            .filter(|e| e.faces[0] != e.faces[1])
             .map(|e| [e.vertices[0] as usize, e.vertices[1] as usize])
             .collect();
         Ok(Part {

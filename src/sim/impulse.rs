@@ -606,6 +606,7 @@ mod tests {
             part_a: 0,
             part_b: 0,
             sign: 1.0,
+            patch: Vec::new(),
         };
         let vertex_floor = ctx(
             pair(
