@@ -455,3 +455,61 @@ fn fast_bodies_hit_a_thin_wall_at_the_same_time_for_any_step() {
     // The sphere's contact time is exact: gap 2 − 0.05 − 0.005 at 200 m/s.
     assert!((first_contact(false, 1e-1) - (2.0 - 0.055) / 200.0).abs() < 1e-12);
 }
+
+/// A run stopped early (`SimOptions::until`, how the solver's trials
+/// skip what cannot change the residual) is the whole run's prefix: the
+/// same events, states and Jacobians up to where it stops, nothing after.
+#[test]
+fn a_run_stopped_early_is_a_prefix_of_the_whole_run() {
+    let mut s = testkit::scene(2.0);
+    s.effects.gyroscopic = true;
+    let mut b = body_with_inertia(
+        "box",
+        Geometry::cuboid(Vec3::new(0.2, 0.1, 0.05)).unwrap(),
+        Vec3::new(0.0, 0.0, 1.0),
+        1.0,
+        Vec3::new(0.004, 0.014, 0.017),
+    );
+    b.angular_velocity = Vec3::new(1.0, 3.0, 0.5);
+    b.restitution = 0.5;
+    s.bodies.push(b);
+    s.obstacles.push(ground());
+    testkit::free_state(&mut s);
+    let controls = Controls::new(&s);
+    let whole = simulate(&s, &controls, &SimOptions::default()).unwrap();
+    let stop = 0.9;
+    let part = simulate(
+        &s,
+        &controls,
+        &SimOptions {
+            until: Some(stop),
+            ..SimOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(part.duration, stop);
+    let before = whole.events.iter().filter(|e| e.t <= stop).count();
+    assert!(
+        before >= 2 && before < whole.events.len(),
+        "{before} events before {stop} s"
+    );
+    assert_eq!(part.events.len(), before);
+    for (a, b) in part.events.iter().zip(&whole.events) {
+        assert_eq!((a.t, &a.key), (b.t, &b.key));
+    }
+    for t in [0.1, 0.45, 0.8, stop] {
+        let (sa, sb) = (
+            part.state(0, t, StateSide::After),
+            whole.state(0, t, StateSide::After),
+        );
+        assert!(
+            (sa.x - sb.x).norm() < 1e-12 && (sa.w - sb.w).norm() < 1e-12,
+            "t = {t}"
+        );
+        let (ja, jb) = (
+            part.jacobian(0, t, StateSide::After).unwrap(),
+            whole.jacobian(0, t, StateSide::After).unwrap(),
+        );
+        assert!((ja - jb).norm() < 1e-9, "t = {t}");
+    }
+}

@@ -291,7 +291,10 @@ impl Editor {
             // trial's motion is the same, but its Jacobian columns refer to
             // the old parameters, so simulate afresh in that case.
             let same = self.controls.values(&self.scene) == res.u;
-            self.traj = if tr.tangent && same {
+            // The solver simulates only up to its horizon; the editor shows
+            // (and the next edit may constrain) the whole motion.
+            let whole = tr.duration >= self.scene.duration;
+            self.traj = if tr.tangent && same && whole {
                 tr
             } else {
                 simulate_with_tangent(&self.scene, &self.controls)?

@@ -43,6 +43,12 @@ pub struct SimOptions {
     pub max_events: usize,
     /// Length of the event-search window, s.
     pub window: f64,
+    /// Stop at this time (s) instead of at the scene's duration; the
+    /// trajectory then ends there (`Trajectory::duration`). The solver's
+    /// trials stop just past the last constrained time: what happens later
+    /// cannot change the residual, and a long settling tail (micro-
+    /// collisions on a support) costs more than the whole flight.
+    pub until: Option<f64>,
 }
 
 impl Default for SimOptions {
@@ -52,6 +58,7 @@ impl Default for SimOptions {
             graze_tol: 1e-3,
             max_events: 100_000,
             window: 0.05,
+            until: None,
         }
     }
 }
@@ -200,8 +207,12 @@ pub fn simulate(
             None
         }
     };
+    let end = opts
+        .until
+        .filter(|t| t.is_finite())
+        .map_or(scene.duration, |t| t.clamp(0.0, scene.duration));
     let traj = Trajectory {
-        duration: scene.duration,
+        duration: end,
         gravity: scene.effective_gravity(),
         gravity_listed: scene.effects.gravity,
         mass_cols: (0..scene.bodies.len())
@@ -285,7 +296,7 @@ pub fn simulate(
 
 impl Sim<'_> {
     fn run(&mut self) -> Result<(), SimError> {
-        let duration = self.scene.duration;
+        let duration = self.traj.duration;
         let mut t = 0.0;
         let mut frontier = 0.0;
         let mut h = match self.scene.accuracy.method {

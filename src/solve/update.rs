@@ -111,7 +111,9 @@ pub struct UpdateResult {
     pub condition: f64,
     pub diagnostics: Vec<Diagnostic>,
     /// The trajectory at the new `u` (with tangents when it came from the
-    /// smooth step, without when it came from sampling).
+    /// smooth step, without when it came from sampling), simulated up to
+    /// just past the last constrained time only (its `duration` says how
+    /// far) when that is before the end of the motion.
     pub trajectory: Option<Trajectory>,
 }
 
@@ -228,12 +230,15 @@ impl Rng {
     }
 }
 
+/// Simulate `u` up to `until` (the whole motion for `None`) and evaluate
+/// the constraints there.
 fn trial(
     scene: &Scene,
     controls: &Controls,
     u: &DVector<f64>,
     constraints: &[Constraint],
     tangent: bool,
+    until: Option<f64>,
 ) -> Option<(f64, Trajectory)> {
     if !u.iter().all(|v| v.is_finite()) {
         return None;
@@ -245,6 +250,7 @@ fn trial(
         controls,
         &SimOptions {
             tangent,
+            until,
             ..SimOptions::default()
         },
     )
@@ -287,6 +293,8 @@ pub fn update(
         .fold(0.0, f64::max);
     let horizon = last + 0.02 * scene.duration;
     let relevant = traj.events.iter().take_while(|e| e.t <= horizon).count();
+    // Trials stop at the horizon: later events cannot change the residual.
+    let until = (horizon < scene.duration).then_some(horizon);
     // A trial compares its first `relevant` events, and also every event
     // it has before the last constrained time: a collision that appears
     // before a constraint (a second bounce, a new contact) is a new smooth
@@ -350,7 +358,7 @@ pub fn update(
             let u = &u0 + &du * eps;
             // Step-reduction trials carry tangents: the accepted one is the
             // next update's starting point, so it is not simulated twice.
-            if let Some((res, tr)) = trial(scene, controls, &u, constraints, true) {
+            if let Some((res, tr)) = trial(scene, controls, &u, constraints, true, until) {
                 if prefix(&tr) == signature {
                     if res < before {
                         return Ok(UpdateResult {
@@ -402,7 +410,7 @@ pub fn update(
     let best = candidates
         .par_iter()
         .filter_map(|dv| {
-            trial(scene, controls, &(&u0 + dv), constraints, false)
+            trial(scene, controls, &(&u0 + dv), constraints, false, until)
                 .map(|(res, tr)| (res, dv.clone(), tr))
         })
         .min_by(|a, b| a.0.total_cmp(&b.0));
