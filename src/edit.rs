@@ -57,12 +57,19 @@ pub enum Edit {
         quantity: StateQuantity,
         delta: Vec3,
     },
-    /// Nail the selected body's quantities at the current time to their current values.
-    Nail { quantities: Vec<StateQuantity> },
+    /// Nail the selected body's quantities at the current time: to their
+    /// current values, or to the values in `exact` (world frame; an
+    /// orientation as an exponential-map vector) for the quantities listed
+    /// there. No quantities: all four.
+    Nail {
+        quantities: Vec<StateQuantity>,
+        exact: Vec<(StateQuantity, Vec3)>,
+    },
     /// A floating constraint on the selected body's quantities at its
-    /// collision nearest the current time.
+    /// collision nearest the current time (values as for [`Edit::Nail`]).
     Float {
         quantities: Vec<StateQuantity>,
+        exact: Vec<(StateQuantity, Vec3)>,
         side: Side,
     },
     /// An expression constraint on the selected body at the current time.

@@ -78,6 +78,7 @@ fn each_constraint_kind_converges() {
     .unwrap();
     e.apply(Edit::Nail {
         quantities: vec![StateQuantity::Position],
+        exact: vec![],
     })
     .unwrap();
     settle(&mut e);
@@ -89,6 +90,7 @@ fn each_constraint_kind_converges() {
     e.apply(Edit::SelectTime(t_hit)).unwrap();
     e.apply(Edit::Float {
         quantities: vec![StateQuantity::Position],
+        exact: vec![],
         side: Side::Post,
     })
     .unwrap();
@@ -174,6 +176,7 @@ fn a_nail_holds_while_another_time_is_dragged() {
     e.apply(Edit::SelectTime(1.4)).unwrap();
     e.apply(Edit::Nail {
         quantities: vec![StateQuantity::Position],
+        exact: vec![],
     })
     .unwrap();
     e.apply(Edit::SelectTime(0.2)).unwrap();
@@ -345,7 +348,11 @@ fn save_then_load_reproduces_the_trajectory_bit_for_bit() {
         delta: Vec3::new(0.13, 0.07, 0.02),
     })
     .unwrap();
-    e.apply(Edit::Nail { quantities: vec![] }).unwrap();
+    e.apply(Edit::Nail {
+        quantities: vec![],
+        exact: vec![],
+    })
+    .unwrap();
     let saved = e.save(None).unwrap();
     assert!(!e.dirty());
     let back = Editor::open(&saved).unwrap();
@@ -399,4 +406,62 @@ fn non_finite_edits_are_rejected_and_leave_history_untouched() {
             .iter()
             .all(|c| c.value.is_finite() && c.delta.is_finite())
     );
+}
+
+/// Typed values (`:nail pos 0.8 0 0.9`, `:float post vel ...`): the
+/// constraint holds the quantity at the typed value, settling reaches it,
+/// and a value for a quantity the constraint does not hold, or a
+/// non-finite one, is refused without changing anything.
+#[test]
+fn nails_and_floating_constraints_hold_typed_values() {
+    let mut e = Editor::new(ball_scene(), None).unwrap();
+    e.apply(Edit::SelectTime(0.5)).unwrap();
+    let want = Vec3::new(0.8, 0.05, 0.9);
+    e.apply(Edit::Nail {
+        quantities: vec![StateQuantity::Position, StateQuantity::Velocity],
+        exact: vec![(StateQuantity::Position, want)],
+    })
+    .unwrap();
+    let v_before = e.trajectory().state(0, 0.5, StateSide::After).v;
+    assert!(residuals(&e)[0] > 0.1, "typed away from the motion");
+    settle(&mut e);
+    let s = e.trajectory().state(0, 0.5, StateSide::After);
+    assert!((s.x - want).norm() < 1e-9, "at {:?}", s.x);
+    assert!((s.v - v_before).norm() < 1e-9, "velocity held at its value");
+
+    // Floating: the velocity just after the first bounce, typed.
+    let mut e = Editor::new(ball_scene(), None).unwrap();
+    let t_hit = e.trajectory().events[0].t;
+    e.apply(Edit::SelectTime(t_hit)).unwrap();
+    let post = Vec3::new(1.2, 0.0, 3.0);
+    e.apply(Edit::Float {
+        quantities: vec![StateQuantity::Velocity],
+        exact: vec![(StateQuantity::Velocity, post)],
+        side: Side::Post,
+    })
+    .unwrap();
+    settle(&mut e);
+    let hit = e.trajectory().events[0].t;
+    let s = e.trajectory().state(0, hit, StateSide::After);
+    assert!((s.v - post).norm() < 1e-8, "{:?} after the bounce", s.v);
+
+    // Refused: nothing changes.
+    let before = u(&e);
+    let n = e.constraints().len();
+    for exact in [
+        vec![(StateQuantity::Orientation, Vec3::zeros())],
+        vec![(StateQuantity::Position, Vec3::new(f64::NAN, 0.0, 0.0))],
+    ] {
+        let err = e
+            .apply(Edit::Nail {
+                quantities: vec![StateQuantity::Position],
+                exact,
+            })
+            .expect_err("refused");
+        assert!(
+            err.to_string().contains("orientation") || err.to_string().contains("finite"),
+            "{err}"
+        );
+    }
+    assert_eq!((u(&e), e.constraints().len()), (before, n));
 }

@@ -61,6 +61,33 @@ fn finite3(v: &Vec3, what: &str) -> Result<(), EditError> {
     }
 }
 
+/// A state constraint's target: the current values of `quantities` in
+/// `state`, except those given in `exact`.
+fn targets(
+    state: &crate::sim::BodyState,
+    quantities: &[StateQuantity],
+    exact: &[(StateQuantity, Vec3)],
+) -> Result<Vec<f64>, EditError> {
+    let mut target = Constraint::current_values(state, quantities);
+    for (q, v) in exact {
+        finite3(v, &format!("the {} to hold", q.name()))?;
+        let k = quantities.iter().position(|x| x == q).ok_or_else(|| {
+            invalid(format!(
+                "a value for {} was given, but it is not among the held quantities",
+                q.name()
+            ))
+        })?;
+        let v = if *q == StateQuantity::Orientation {
+            // The same rotation with |r| ≤ π, as the residual measures it.
+            log_so3(&exp_so3(v))
+        } else {
+            *v
+        };
+        target[3 * k..3 * k + 3].copy_from_slice(v.as_slice());
+    }
+    Ok(target)
+}
+
 fn simulate_with_tangent(scene: &Scene, controls: &Controls) -> Result<Trajectory, EditError> {
     simulate(scene, controls, &SimOptions::default()).map_err(|e| invalid(e.to_string()))
 }
@@ -425,14 +452,14 @@ impl Editor {
                 diagnostics.extend(d.iter().map(|x| x.to_string()));
                 changed = self.updates > updates0 && self.values() != old_values;
             }
-            Edit::Nail { quantities } => {
+            Edit::Nail { quantities, exact } => {
                 let quantities = if quantities.is_empty() {
                     StateQuantity::ALL.to_vec()
                 } else {
                     quantities
                 };
                 let s = self.traj.state(self.selected, self.time, StateSide::After);
-                let target = Constraint::current_values(&s, &quantities);
+                let target = targets(&s, &quantities, &exact)?;
                 self.constraints.push(Constraint {
                     body: self.selected,
                     anchor: Anchor::Time(self.time),
@@ -440,7 +467,11 @@ impl Editor {
                     drag: false,
                 });
             }
-            Edit::Float { quantities, side } => {
+            Edit::Float {
+                quantities,
+                exact,
+                side,
+            } => {
                 let quantities = if quantities.is_empty() {
                     StateQuantity::ALL.to_vec()
                 } else {
@@ -462,7 +493,7 @@ impl Editor {
                         StateSide::After
                     },
                 );
-                let target = Constraint::current_values(&s, &quantities);
+                let target = targets(&s, &quantities, &exact)?;
                 self.constraints.push(Constraint {
                     body: self.selected,
                     anchor: Anchor::Event { collision: k, side },

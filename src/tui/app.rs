@@ -326,8 +326,8 @@ impl App {
                     };
                 }
             }
-            Action::Nail => self.nail(core, StateQuantity::ALL.to_vec()),
-            Action::Float => self.float(core, None, StateQuantity::ALL.to_vec()),
+            Action::Nail => self.nail(core, StateQuantity::ALL.to_vec(), Vec::new()),
+            Action::Float => self.float(core, None, StateQuantity::ALL.to_vec(), Vec::new()),
             Action::EventControls => {
                 if self
                     .apply(
@@ -558,14 +558,21 @@ impl App {
         }
     }
 
-    fn nail(&mut self, core: &mut impl Core, quantities: Vec<StateQuantity>) {
+    fn nail(
+        &mut self,
+        core: &mut impl Core,
+        quantities: Vec<StateQuantity>,
+        exact: Vec<(StateQuantity, Vec3)>,
+    ) {
         let names = quantity_names(&quantities);
-        if self.apply(core, Edit::Nail { quantities }).is_some() {
+        let typed = !exact.is_empty();
+        if self.apply(core, Edit::Nail { quantities, exact }).is_some() {
             let view = core.view();
             let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
             self.say_info(format!(
-                "nailed {names} of {body} at t={}",
-                super::format::num(view.time, 8)
+                "nailed {names} of {body} at t={}{}",
+                super::format::num(view.time, 8),
+                settle_hint(typed, &view)
             ));
         }
     }
@@ -573,7 +580,13 @@ impl App {
     /// A floating constraint at the selected body's collision nearest the
     /// current time; without an explicit side, `pre` if that collision is
     /// still ahead and `post` otherwise.
-    fn float(&mut self, core: &mut impl Core, side: Option<Side>, quantities: Vec<StateQuantity>) {
+    fn float(
+        &mut self,
+        core: &mut impl Core,
+        side: Option<Side>,
+        quantities: Vec<StateQuantity>,
+        exact: Vec<(StateQuantity, Vec3)>,
+    ) {
         let view = core.view();
         let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
         let nearest = view
@@ -586,12 +599,24 @@ impl App {
             _ => Side::Post,
         });
         let names = quantity_names(&quantities);
-        if self.apply(core, Edit::Float { quantities, side }).is_some() {
+        let typed = !exact.is_empty();
+        if self
+            .apply(
+                core,
+                Edit::Float {
+                    quantities,
+                    exact,
+                    side,
+                },
+            )
+            .is_some()
+        {
             let at = nearest
                 .map(|e| format!(" at hit#{}", e.index))
                 .unwrap_or_default();
             let side = if side == Side::Pre { "pre" } else { "post" };
-            self.say_info(format!("floating {names} of {body}{at} ({side})"));
+            let hint = settle_hint(typed, &core.view());
+            self.say_info(format!("floating {names} of {body}{at} ({side}){hint}"));
         }
     }
 
@@ -691,8 +716,12 @@ impl App {
             root_tol: app.root_tol,
         };
         match cmd {
-            Command::Nail(qs) => self.nail(core, qs),
-            Command::Float { side, quantities } => self.float(core, side, quantities),
+            Command::Nail { quantities, exact } => self.nail(core, quantities, exact),
+            Command::Float {
+                side,
+                quantities,
+                exact,
+            } => self.float(core, side, quantities, exact),
             Command::SetTol(tol) => {
                 let method = Method::Adaptive {
                     tol,
@@ -798,6 +827,18 @@ pub fn block_is_free(view: &View, body: usize, block: Block) -> bool {
 
 fn quantity_index(q: StateQuantity) -> usize {
     StateQuantity::ALL.iter().position(|x| *x == q).unwrap_or(0)
+}
+
+/// After a constraint with typed values: how far off it is, and how to
+/// meet it (the constraint is added as typed; `s` iterates towards it).
+fn settle_hint(typed: bool, view: &View) -> String {
+    match view.constraints.last() {
+        Some(c) if typed && c.residual > 1e-9 => format!(
+            "; residual {}: s settles",
+            super::format::num(c.residual, 6)
+        ),
+        _ => String::new(),
+    }
 }
 
 fn quantity_names(qs: &[StateQuantity]) -> String {
@@ -982,6 +1023,7 @@ mod tests {
             only_edit(&core),
             &Edit::Float {
                 quantities: StateQuantity::ALL.to_vec(),
+                exact: vec![],
                 side: Side::Pre
             }
         );
@@ -990,6 +1032,7 @@ mod tests {
             only_edit(&core),
             &Edit::Float {
                 quantities: vec![StateQuantity::Position],
+                exact: vec![],
                 side: Side::Post
             }
         );

@@ -3,6 +3,7 @@
 //! quotes the bad word and says what was expected.
 
 use crate::edit::Side;
+use crate::math::Vec3;
 use crate::scene::{Block, StateQuantity};
 use std::path::PathBuf;
 
@@ -16,13 +17,20 @@ pub enum MethodName {
 /// A parsed `:` command.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
-    /// `:nail [quantities...]` (empty: all four).
-    Nail(Vec<StateQuantity>),
-    /// `:float [pre|post] [quantities...]`; `side: None` lets the editor
-    /// choose from where the current time lies relative to the collision.
+    /// `:nail [quantity [x y z]]...` (no quantity: all four); a quantity
+    /// followed by three numbers is held at that value, else at its
+    /// current one.
+    Nail {
+        quantities: Vec<StateQuantity>,
+        exact: Vec<(StateQuantity, Vec3)>,
+    },
+    /// `:float [pre|post] [quantity [x y z]]...`; `side: None` lets the
+    /// editor choose from where the current time lies relative to the
+    /// collision.
     Float {
         side: Option<Side>,
         quantities: Vec<StateQuantity>,
+        exact: Vec<(StateQuantity, Vec3)>,
     },
     /// `:set tol X`: adaptive integrator with tolerance X.
     SetTol(f64),
@@ -170,20 +178,48 @@ impl<'a> Words<'a> {
         })
     }
 
-    fn quantities(&self, from: usize) -> Result<Vec<StateQuantity>, CommandError> {
+    /// `quantity [x y z]` pairs from word `from` on: the quantities (all
+    /// four if none) and the values typed for some of them.
+    #[allow(clippy::type_complexity)]
+    fn targets(
+        &self,
+        from: usize,
+    ) -> Result<(Vec<StateQuantity>, Vec<(StateQuantity, Vec3)>), CommandError> {
         let mut out = Vec::new();
-        for i in from..self.words.len() {
+        let mut exact = Vec::new();
+        let mut i = from;
+        while i < self.words.len() {
             let q = parse_quantity(self.words[i]).ok_or_else(|| {
                 self.err(i, "unknown quantity; expected position, orientation, velocity or angular_velocity")
             })?;
-            if !out.contains(&q) {
-                out.push(q);
+            if out.contains(&q) {
+                return Err(self.err(i, format!("{} is given twice", q.name())));
+            }
+            out.push(q);
+            i += 1;
+            let number = |w: &str| w.parse::<f64>().ok();
+            if self.get(i).and_then(number).is_some() {
+                let mut v = Vec3::zeros();
+                for k in 0..3 {
+                    let w = self.get(i + k).ok_or_else(|| {
+                        self.err(
+                            i + k - 1,
+                            format!("expected three numbers x y z after {}", q.name()),
+                        )
+                    })?;
+                    v[k] = match number(w) {
+                        Some(x) if x.is_finite() => x,
+                        _ => return Err(self.err(i + k, "expected a finite number")),
+                    };
+                }
+                exact.push((q, v));
+                i += 3;
             }
         }
         if out.is_empty() {
             out = StateQuantity::ALL.to_vec();
         }
-        Ok(out)
+        Ok((out, exact))
     }
 
     fn block(&self, i: usize) -> Result<Block, CommandError> {
@@ -235,16 +271,21 @@ pub fn parse(line: &str) -> Result<Command, CommandError> {
     let rest = line[name.len()..].trim();
     let path = (!rest.is_empty()).then(|| PathBuf::from(rest));
     let cmd = match name {
-        "nail" => Command::Nail(w.quantities(1)?),
+        "nail" => {
+            let (quantities, exact) = w.targets(1)?;
+            Command::Nail { quantities, exact }
+        }
         "float" => {
             let side = match w.get(1) {
                 Some("pre") => Some(Side::Pre),
                 Some("post") => Some(Side::Post),
                 _ => None,
             };
+            let (quantities, exact) = w.targets(if side.is_some() { 2 } else { 1 })?;
             Command::Float {
                 side,
-                quantities: w.quantities(if side.is_some() { 2 } else { 1 })?,
+                quantities,
+                exact,
             }
         }
         "set" => {
@@ -408,6 +449,26 @@ mod tests {
             ":event -1: expected event number as a whole number (0, 1, 2, ...)"
         );
         assert_eq!(err("set tol"), ":set tol: missing tolerance");
+        assert_eq!(
+            err("nail pos 1 0"),
+            ":nail pos 1 0: expected three numbers x y z after position"
+        );
+        assert_eq!(
+            err("nail pos 1 nan 0"),
+            ":nail pos 1 nan: expected a finite number"
+        );
+        assert_eq!(
+            err("float pre vel 1 2 inf"),
+            ":float pre vel 1 2 inf: expected a finite number"
+        );
+        assert_eq!(
+            err("nail pos pos"),
+            ":nail pos pos: position is given twice"
+        );
+        assert_eq!(
+            err("nail pos 1 2 3 4"),
+            ":nail pos 1 2 3 4: unknown quantity; expected position, orientation, velocity or angular_velocity"
+        );
     }
 
     #[test]
@@ -415,24 +476,50 @@ mod tests {
         use StateQuantity::*;
         assert_eq!(
             parse("nail"),
-            Ok(Command::Nail(StateQuantity::ALL.to_vec()))
+            Ok(Command::Nail {
+                quantities: StateQuantity::ALL.to_vec(),
+                exact: vec![]
+            })
         );
         assert_eq!(
             parse("nail position velocity"),
-            Ok(Command::Nail(vec![Position, Velocity]))
+            Ok(Command::Nail {
+                quantities: vec![Position, Velocity],
+                exact: vec![]
+            })
+        );
+        assert_eq!(
+            parse("nail pos 1 0 0.56 rot"),
+            Ok(Command::Nail {
+                quantities: vec![Position, Orientation],
+                exact: vec![(Position, Vec3::new(1.0, 0.0, 0.56))]
+            })
         );
         assert_eq!(
             parse("float post pos"),
             Ok(Command::Float {
                 side: Some(Side::Post),
-                quantities: vec![Position]
+                quantities: vec![Position],
+                exact: vec![]
+            })
+        );
+        assert_eq!(
+            parse("float post angvel 0 0 0 orientation -1e-3 2 0"),
+            Ok(Command::Float {
+                side: Some(Side::Post),
+                quantities: vec![AngularVelocity, Orientation],
+                exact: vec![
+                    (AngularVelocity, Vec3::zeros()),
+                    (Orientation, Vec3::new(-1e-3, 2.0, 0.0))
+                ]
             })
         );
         assert_eq!(
             parse("float"),
             Ok(Command::Float {
                 side: None,
-                quantities: StateQuantity::ALL.to_vec()
+                quantities: StateQuantity::ALL.to_vec(),
+                exact: vec![]
             })
         );
         assert_eq!(parse("set tol 1e-9"), Ok(Command::SetTol(1e-9)));

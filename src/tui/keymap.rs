@@ -559,9 +559,12 @@ pub fn markdown() -> String {
 
 /// The `:` commands, for the README and `:help`.
 pub const COMMANDS: &[(&str, &str)] = &[
-    (":nail [qty...]", "nail the body now (default: all four)"),
     (
-        ":float [pre|post] [qty...]",
+        ":nail [qty [x y z]]...",
+        "nail the body now (default: all four)",
+    ),
+    (
+        ":float [pre|post] [qty..]",
         "floating constraint at nearest collision",
     ),
     (":set tol 1e-9", "adaptive integrator with this tolerance"),
@@ -599,6 +602,7 @@ pub const COMMANDS: &[(&str, &str)] = &[
 /// What the command arguments may be, for the help and the README.
 pub const COMMAND_NOTES: &[&str] = &[
     "qty: position orientation velocity angular_velocity (pos rot vel angvel)",
+    "x y z after a qty: hold it there, not at its current value; s settles",
     "block: position orientation velocity angular_velocity mass inertia",
 ];
 
