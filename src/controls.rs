@@ -35,7 +35,24 @@ pub struct Entry {
     /// Desired value (surface parameters only: the geometric normal and the
     /// scene's restitution), pulling the solution towards it through `d`.
     pub desired: Option<f64>,
+    /// The physically meaningful range `[lower, upper]`: the solver never
+    /// steps outside it (restitution in [0, 1], a normal deviation of at
+    /// most [`MAX_NORMAL_DEVIATION`], positive masses and moments).
+    pub bounds: (f64, f64),
 }
+
+/// Largest tilt of a controlled normal from the geometric one, rad (30°).
+/// Each deviation component is bounded by `tan(30°)/√2`, so that together
+/// they tilt the normal by at most 30°.
+pub const MAX_NORMAL_DEVIATION: f64 = std::f64::consts::FRAC_PI_6;
+
+/// Bounds of a deviation component (see [`MAX_NORMAL_DEVIATION`]).
+fn normal_bound() -> f64 {
+    MAX_NORMAL_DEVIATION.tan() / std::f64::consts::SQRT_2
+}
+
+/// Smallest mass (kg) or principal moment (kg·m²) the solver may step to.
+const MIN_POSITIVE: f64 = 1e-12;
 
 /// The control vector's layout for a scene: every entry, free or fixed, and
 /// the column of each free entry in Jacobians.
@@ -79,6 +96,10 @@ impl Controls {
                         free,
                         scale: scene.scales.of(block),
                         desired: None,
+                        bounds: match block {
+                            Block::Mass | Block::Inertia => (MIN_POSITIVE, f64::INFINITY),
+                            _ => (f64::NEG_INFINITY, f64::INFINITY),
+                        },
                     });
                 }
             }
@@ -97,6 +118,7 @@ impl Controls {
                         free: true,
                         scale: scene.scales.normal,
                         desired: Some(0.0),
+                        bounds: (-normal_bound(), normal_bound()),
                     });
                 }
             }
@@ -107,6 +129,7 @@ impl Controls {
                     free: true,
                     scale: scene.scales.restitution,
                     desired: None,
+                    bounds: (0.0, 1.0),
                 });
             }
         }
@@ -230,6 +253,19 @@ impl Controls {
         for b in &mut scene.bodies {
             b.orientation = crate::math::reparameterize(&b.orientation).0;
         }
+    }
+
+    /// Lower and upper bounds over the free entries.
+    pub fn bounds(&self) -> (DVector<f64>, DVector<f64>) {
+        let lo = DVector::from_iterator(
+            self.m(),
+            self.free.iter().map(|&i| self.entries[i].bounds.0),
+        );
+        let hi = DVector::from_iterator(
+            self.m(),
+            self.free.iter().map(|&i| self.entries[i].bounds.1),
+        );
+        (lo, hi)
     }
 
     /// Diagonal of `M` over the free entries.

@@ -3,7 +3,7 @@
 
 mod editor;
 
-pub use editor::Editor;
+pub use editor::{Editor, MAX_SETTLE_UPDATES};
 
 use crate::math::Vec3;
 use crate::scene::{Accuracy, Block, StateQuantity};

@@ -237,6 +237,8 @@ fn run(
     let parsed = nudge::script::parse_keys(&text, &keys.display().to_string())
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
+    // A replay is deterministic: settles stop by convergence, not the clock.
+    editor.set_wall_clock(false);
     let before = editor.view();
     let result = nudge::script::run_script(&mut editor, &parsed, size);
     if let Some(p) = screen {

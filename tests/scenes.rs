@@ -113,7 +113,9 @@ impl Fingerprint {
             self.quat(&format!("{l}.offset.q"), &part.offset.rotation);
             match &part.kind {
                 PartKind::Ball { radius } => self.num(format!("{l}.radius"), *radius),
-                PartKind::Convex { vertices, edges } => {
+                PartKind::Convex {
+                    vertices, edges, ..
+                } => {
                     for (v, p) in vertices.iter().enumerate() {
                         self.vec3(&format!("{l}.vertex[{v}]"), p);
                     }

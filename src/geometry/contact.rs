@@ -143,6 +143,15 @@ fn part_contact(
 ) -> Option<Contact> {
     let wa = pose_a * pa.offset;
     let wb = pose_b * pb.offset;
+    // Bounding spheres farther apart than `max_distance`: no contact to
+    // report, and no need to ask parry (a bucket's far walls, most of a
+    // compound's parts).
+    let gap = (wa.translation.vector - wb.translation.vector).norm()
+        - pa.local_radius()
+        - pb.local_radius();
+    if gap > max_distance {
+        return None;
+    }
     match (&pa.kind, &pb.kind) {
         (_, PartKind::Parabola { curvature, .. }) => {
             let (d, n, p_a, p_b) = against_parabola(pa, &wa, &wb, *curvature)?;
@@ -305,7 +314,20 @@ pub fn part_near_points(
     band: f64,
 ) -> Vec<NearPoint> {
     let mut out = Vec::new();
+    // Pieces farther apart than the band have no near points; for convex
+    // pieces the closest approach also bounds where the points can be.
+    let Some(pair) = part_contact(pa, pose_a, pb, pose_b, band) else {
+        return out;
+    };
     let wa = pose_a * pa.offset;
+    let wb = pose_b * pb.offset;
+    // b lies below the plane through its witness point with normal `pair.normal`
+    // (b towards a), a above the one through a's: a point of a more than
+    // `band` above b's plane is farther than `band` from b, and so on.
+    let slab = matches!(pb.kind, PartKind::Convex { .. } | PartKind::Ball { .. });
+    let above_b = |p: &Vec3| pair.normal.dot(&(p - pair.point_b));
+    let below_a = |p: &Vec3| pair.normal.dot(&(pair.point_a - p));
+    let margin = band + 1e-9 * (1.0 + pair.point_b.norm());
     // Candidate points of a with the radius to subtract.
     let points: Vec<(Vec3, f64, Corner)> = match &pa.kind {
         PartKind::Ball { radius } => vec![(wa.translation.vector, *radius, Corner::Ball)],
@@ -316,10 +338,10 @@ pub fn part_near_points(
                 let p = (pa.offset * to_point(v)).coords;
                 ((wa * to_point(v)).coords, 0.0, Corner::A { index, p })
             })
+            .filter(|(w, _, _)| !slab || above_b(w) <= margin)
             .collect(),
         _ => return out,
     };
-    let wb = pose_b * pb.offset;
     for &(p, radius, corner) in &points {
         let found = match &pb.kind {
             PartKind::HalfSpace { normal } => {
@@ -361,51 +383,37 @@ pub fn part_near_points(
             }
         }
     }
-    convex_patch_corners(pa, &wa, pb, &wb, band, &mut out);
-    out
-}
-
-/// The patch corners between two convex pieces that are not vertices of
-/// `a`: vertices of `b` near `a`, and edge–edge crossings (see
-/// [`near_points`]). Every corner takes the normal of the pieces' closest
-/// approach (two convex pieces touch in one plane).
-fn convex_patch_corners(
-    pa: &Part,
-    wa: &Isometry3<f64>,
-    pb: &Part,
-    wb: &Isometry3<f64>,
-    band: f64,
-    out: &mut Vec<NearPoint>,
-) {
     let (
         PartKind::Convex {
             vertices: va,
             edges: ea,
+            ..
         },
         PartKind::Convex {
             vertices: vb,
             edges: eb,
+            ..
         },
         Some(sa),
-        Some(sb),
-    ) = (&pa.kind, &pb.kind, pa.shape.as_ref(), pb.shape.as_ref())
+    ) = (&pa.kind, &pb.kind, pa.shape.as_ref())
     else {
-        return;
+        return out;
     };
-    let Ok(Some(c)) = query::contact(wa, sa.as_ref(), wb, sb.as_ref(), band) else {
-        return;
-    };
-    // normal1 points from a towards b; NearPoint normals point from b to a.
-    let n = -c.normal1.into_inner();
+    // The corners that are not vertices of a: vertices of b near a, and
+    // edge–edge crossings. Every one takes the normal of the pieces'
+    // closest approach (two convex pieces touch in one plane).
+    let n = pair.normal;
     if !n.iter().all(|v| v.is_finite()) {
-        return;
+        return out;
     }
     let wva: Vec<Vec3> = va.iter().map(|v| (wa * to_point(v)).coords).collect();
     let wvb: Vec<Vec3> = vb.iter().map(|v| (wb * to_point(v)).coords).collect();
     let owner_a = |i: usize| (pa.offset * to_point(&va[i])).coords;
     let owner_b = |i: usize| (pb.offset * to_point(&vb[i])).coords;
-    for (index, p) in wvb.iter().enumerate() {
-        let proj = sa.project_point(wa, &to_point(p), false);
+    let near_b: Vec<bool> = wvb.iter().map(|q| below_a(q) <= margin).collect();
+    let near_a: Vec<bool> = wva.iter().map(|p| above_b(p) <= margin).collect();
+    for (index, p) in wvb.iter().enumerate().filter(|(i, _)| near_b[*i]) {
+        let proj = sa.project_point(&wa, &to_point(p), false);
         let gap = (proj.point.coords - p).norm();
         let d = if proj.is_inside { -gap } else { gap };
         if d <= band && d.is_finite() {
@@ -420,9 +428,18 @@ fn convex_patch_corners(
             });
         }
     }
+    // An edge can cross into the slab only from an end inside it.
+    let edges_b: Vec<(usize, &[usize; 2])> = eb
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| near_b[f[0]] || near_b[f[1]])
+        .collect();
     for (i, e) in ea.iter().enumerate() {
+        if !(near_a[e[0]] || near_a[e[1]]) {
+            continue;
+        }
         let (p0, p1) = (wva[e[0]], wva[e[1]]);
-        for (j, f) in eb.iter().enumerate() {
+        for &(j, f) in &edges_b {
             let Some((s, t)) = segment_crossing(&p0, &p1, &wvb[f[0]], &wvb[f[1]]) else {
                 continue;
             };
@@ -443,6 +460,91 @@ fn convex_patch_corners(
                 });
             }
         }
+    }
+    out
+}
+
+/// A flat face of a part, in world space (see [`flat_faces`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlatFace {
+    /// Outward unit normal.
+    pub normal: Vec3,
+    /// The face's plane is `normal · p = offset`.
+    pub offset: f64,
+    /// The face polygon's corners in order (empty: unbounded, a half-space).
+    pub polygon: Vec<Vec3>,
+}
+
+impl FlatFace {
+    /// Whether `p` is within `tol` (m) of the face: of its plane, and of
+    /// the polygon seen along the normal.
+    pub fn holds(&self, p: &Vec3, tol: f64) -> bool {
+        if (self.normal.dot(p) - self.offset).abs() > tol {
+            return false;
+        }
+        let n = self.polygon.len();
+        (0..n).all(|i| {
+            let (a, b) = (self.polygon[i], self.polygon[(i + 1) % n]);
+            let edge = b - a;
+            // Outward in-plane direction of the edge (counter-clockwise
+            // around the outward normal).
+            let out = edge.cross(&self.normal);
+            out.dot(&(p - a)) <= tol * out.norm()
+        })
+    }
+}
+
+/// The flat faces of a part placed by its owner's `pose` that face `dir`
+/// (unit, world) within the angle whose cosine is `cos_min`: a half-space's
+/// plane, or hull faces. Balls and parabolas have none.
+pub fn flat_faces(part: &Part, pose: &Isometry3<f64>, dir: &Vec3, cos_min: f64) -> Vec<FlatFace> {
+    let w = pose * part.offset;
+    match &part.kind {
+        PartKind::HalfSpace { normal } => {
+            let m = w.rotation * normal;
+            if m.dot(dir) >= cos_min {
+                vec![FlatFace {
+                    normal: m,
+                    offset: m.dot(&w.translation.vector),
+                    polygon: Vec::new(),
+                }]
+            } else {
+                Vec::new()
+            }
+        }
+        PartKind::Convex {
+            vertices, faces, ..
+        } => faces
+            .iter()
+            .filter_map(|(f, ids)| {
+                let m = w.rotation * f;
+                (m.dot(dir) >= cos_min).then(|| {
+                    let mut polygon: Vec<Vec3> = ids
+                        .iter()
+                        .filter_map(|&i| vertices.get(i))
+                        .map(|v| (w * to_point(v)).coords)
+                        .collect();
+                    // Counter-clockwise around the outward normal.
+                    let k = polygon.len();
+                    let turn: Vec3 = (0..k)
+                        .map(|i| polygon[i].cross(&polygon[(i + 1) % k]))
+                        .sum();
+                    if turn.dot(&m) < 0.0 {
+                        polygon.reverse();
+                    }
+                    let offset = polygon
+                        .iter()
+                        .map(|p| m.dot(p))
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    FlatFace {
+                        normal: m,
+                        offset,
+                        polygon,
+                    }
+                })
+            })
+            .collect(),
+        PartKind::Ball { .. } | PartKind::Parabola { .. } => Vec::new(),
     }
 }
 
@@ -497,6 +599,29 @@ mod tests {
 
     fn at(x: f64, y: f64, z: f64) -> Isometry3<f64> {
         Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::identity())
+    }
+
+    /// A face holds the points on it and near its edges, not those beside
+    /// it or off its plane.
+    #[test]
+    fn a_flat_face_holds_the_points_on_it() {
+        let cube = Geometry::cuboid(Vec3::new(0.5, 0.5, 0.5)).unwrap();
+        let top = flat_faces(&cube.parts[0], &at(0.0, 0.0, 0.0), &Vec3::z(), 0.999);
+        assert_eq!(top.len(), 1, "{top:?}");
+        let f = &top[0];
+        assert!((f.normal - Vec3::z()).norm() < 1e-12 && (f.offset - 0.5).abs() < 1e-12);
+        assert_eq!(f.polygon.len(), 4);
+        assert!(f.holds(&Vec3::new(0.2, -0.4, 0.5), 1e-9));
+        assert!(f.holds(&Vec3::new(0.5 + 1e-10, 0.0, 0.5), 1e-9));
+        assert!(!f.holds(&Vec3::new(0.6, 0.0, 0.5), 1e-9));
+        assert!(!f.holds(&Vec3::new(0.0, 0.0, 0.51), 1e-3));
+        let tilted = flat_faces(
+            &cube.parts[0],
+            &at(0.0, 0.0, 0.0),
+            &Vec3::new(0.0, 0.1, 1.0).normalize(),
+            0.999,
+        );
+        assert!(tilted.is_empty(), "5.7° off is not flat at cos 0.999");
     }
 
     /// A plank lying across a narrower support touches it in a rectangle

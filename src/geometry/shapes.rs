@@ -50,10 +50,13 @@ impl std::fmt::Debug for Part {
 pub enum PartKind {
     /// A sphere centred at the piece origin.
     Ball { radius: f64 },
-    /// A convex polyhedron: its vertices and hull edges (vertex index pairs).
+    /// A convex polyhedron: its vertices, hull edges (vertex index pairs)
+    /// and its (merged, polygonal) faces: outward unit normal and vertex
+    /// indices in order around the face.
     Convex {
         vertices: Vec<Vec3>,
         edges: Vec<[usize; 2]>,
+        faces: Vec<(Vec3, Vec<usize>)>,
     },
     /// The half-space `n · p ≤ 0` (solid below the plane through the origin).
     HalfSpace { normal: Vec3 },
@@ -128,10 +131,24 @@ impl Part {
             .filter(|e| e.faces[0] != e.faces[1])
             .map(|e| [e.vertices[0] as usize, e.vertices[1] as usize])
             .collect();
+        let around = hull.vertices_adj_to_face();
+        let faces = hull
+            .faces()
+            .iter()
+            .map(|f| {
+                let first = f.first_vertex_or_edge as usize;
+                let ids = around[first..first + f.num_vertices_or_edges as usize]
+                    .iter()
+                    .map(|&i| i as usize)
+                    .collect();
+                (f.normal.into_inner(), ids)
+            })
+            .collect();
         Ok(Part {
             kind: PartKind::Convex {
                 vertices: verts,
                 edges,
+                faces,
             },
             offset: Isometry3::identity(),
             shape: Some(SharedShape::new(hull)),
@@ -147,6 +164,18 @@ impl Part {
                 .map(|p| p.coords)
                 .collect(),
             _ => Vec::new(),
+        }
+    }
+
+    /// Radius of a sphere about the piece's own origin that contains it
+    /// (infinite for unbounded pieces).
+    pub fn local_radius(&self) -> f64 {
+        match &self.kind {
+            PartKind::Ball { radius } => *radius,
+            PartKind::Convex { vertices, .. } => {
+                vertices.iter().map(|v| v.norm()).fold(0.0, f64::max)
+            }
+            PartKind::HalfSpace { .. } | PartKind::Parabola { .. } => f64::INFINITY,
         }
     }
 
@@ -359,7 +388,9 @@ impl Geometry {
                         }
                     }
                 }
-                PartKind::Convex { vertices, edges } => {
+                PartKind::Convex {
+                    vertices, edges, ..
+                } => {
                     for e in edges {
                         out.push((tf(vertices[e[0]]), tf(vertices[e[1]])));
                     }

@@ -31,6 +31,9 @@ const MAX_SUBSTEPS: usize = 10_000;
 /// nearly flat is then one impulse at the patch's centroid, not a sequence
 /// of corner impacts whose order rocks and turns the body.
 const PATCH_TIME: f64 = 1e-4;
+/// A face takes part in a contact patch when its normal is within this
+/// angle (rad) of the contact normal.
+const PATCH_ANGLE: f64 = 0.02;
 
 /// Options of one simulation run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -898,9 +901,13 @@ impl Sim<'_> {
 
     /// The contact patch of an impact, when more than one of its corners
     /// hits at once: the corners that approach and would touch within
-    /// [`PATCH_TIME`] at their approach speed (between convex pieces, or a
-    /// convex piece and a plane). `a` and `b` are the parties' body indices
-    /// (`b` is `None` for an obstacle).
+    /// [`PATCH_TIME`] at their approach speed, on a flat face of either
+    /// party that lies in the contact plane (within [`PATCH_ANGLE`]): an
+    /// edge or face landing on a face, a face on an edge. Two curved
+    /// (tessellated) surfaces never touch in a patch: their facets meet
+    /// at angles, and a patch over many small facets would change with
+    /// every nudge. `a` and `b` are the parties' body indices (`b` is
+    /// `None` for an obstacle).
     #[allow(clippy::too_many_arguments)]
     fn patch(
         &self,
@@ -918,13 +925,47 @@ impl Sim<'_> {
             return None;
         }
         let n = contact.normal;
+        let pose_a = Isometry3::from_parts(Translation3::from(sa.x), sa.q);
+        let cos = PATCH_ANGLE.cos();
+        let flat_a = crate::geometry::flat_faces(part_a, &pose_a, &-n, cos);
+        let flat_b = crate::geometry::flat_faces(part_b, pose_b, &n, cos);
+        if flat_a.is_empty() && flat_b.is_empty() {
+            return None;
+        }
+        // A corner takes part when it is a vertex lying on the other
+        // party's flat face, or where an edge lying on one party's flat
+        // face crosses the other's edge. (Around a vertex touching a face
+        // the edges rise away from it: their crossings are not contacts.)
+        let lies = |faces: &[crate::geometry::FlatFace], p: &Vec3, band: f64| {
+            faces.iter().any(|f| f.holds(p, band))
+        };
+        let on_plane =
+            |faces: &[crate::geometry::FlatFace], p: &Vec3, q: &Vec3, at: &Vec3, band: f64| {
+                faces.iter().any(|f| {
+                    f.holds(at, band)
+                        && (f.normal.dot(p) - f.offset).abs() <= band
+                        && (f.normal.dot(q) - f.offset).abs() <= band
+                })
+            };
+        let qualifies = |c: &Corner, at: &Vec3, band: f64| match c {
+            Corner::A { .. } => lies(&flat_b, at, band),
+            Corner::B { p, .. } => {
+                lies(&flat_a, &(pose_b * nalgebra::Point3::from(*p)).coords, band)
+            }
+            Corner::Crossing { a: ea, b: eb, .. } => {
+                let wa = ea.map(|p| (pose_a * nalgebra::Point3::from(p)).coords);
+                let wb = eb.map(|p| (pose_b * nalgebra::Point3::from(p)).coords);
+                on_plane(&flat_b, &wa[0], &wa[1], at, band)
+                    || on_plane(&flat_a, &wb[0], &wb[1], at, band)
+            }
+            Corner::Ball => false,
+        };
         let velocity_b = |p: &Vec3| sb.map_or(Vec3::zeros(), |s| s.v + s.w.cross(&(p - s.x)));
         let approach = |p: &Vec3| -n.dot(&(sa.v + sa.w.cross(&(p - sa.x)) - velocity_b(p)));
         // No point of either party is faster than this.
         let bound = |i: usize, s: &BodyState| s.v.norm() + s.w.norm() * self.traj.dynamics[i].reach;
         let max_speed = bound(a, sa) + b.zip(sb).map_or(0.0, |(j, s)| bound(j, s));
         let skin = 10.0 * self.tol.arm;
-        let pose_a = Isometry3::from_parts(Translation3::from(sa.x), sa.q);
         let near = crate::geometry::part_near_points(
             part_a,
             &pose_a,
@@ -936,8 +977,10 @@ impl Sim<'_> {
         let mut corners: Vec<(Vec3, Corner)> = Vec::new();
         for p in near {
             let speed = approach(&p.point);
+            let band = skin + PATCH_TIME * speed;
             if speed > 0.0
-                && p.distance <= skin + PATCH_TIME * speed
+                && p.distance <= band
+                && qualifies(&p.corner, &p.point, band)
                 && corners.iter().all(|c| (c.0 - p.point).norm() > merge)
             {
                 corners.push((p.point, p.corner));

@@ -92,6 +92,14 @@ impl Constraint {
         }
     }
 
+    /// The bodies whose states the constraint reads.
+    pub fn bodies(&self) -> Vec<usize> {
+        match &self.kind {
+            Kind::EqualSpeed { other } | Kind::Distance { other, .. } => vec![self.body, *other],
+            _ => vec![self.body],
+        }
+    }
+
     /// The time of the anchor on this trajectory.
     pub fn time(&self, traj: &Trajectory) -> Option<f64> {
         match self.anchor {

@@ -89,7 +89,7 @@ impl Default for UpdateOptions {
     fn default() -> Self {
         UpdateOptions {
             step: 1.0,
-            halvings: 4,
+            halvings: 8,
             samples: 24,
             rank_tol: 1e-12,
             seed: 0x5eed,
@@ -210,6 +210,55 @@ pub fn kkt(
     (du, condition, unmet)
 }
 
+/// [`kkt`] within the controls' bounds: controls that the step would push
+/// out of their range are held at the bound they would cross (their
+/// columns leave the system and the rest of the residual is re-solved), a
+/// few rounds of this active-set strategy. Every step `u0 + ε δu` with
+/// `0 < ε ≤ 1` then stays in range.
+fn bounded_kkt(
+    c: &DMatrix<f64>,
+    r: &DVector<f64>,
+    scales: &DVector<f64>,
+    d: &DVector<f64>,
+    u0: &DVector<f64>,
+    controls: &Controls,
+    opts: &UpdateOptions,
+) -> (DVector<f64>, f64, f64) {
+    let (lo, hi) = controls.bounds();
+    let m = u0.len();
+    let mut held: Vec<Option<f64>> = vec![None; m];
+    let (mut du, mut condition, mut unmet) = kkt(c, r, scales, d, opts.rank_tol);
+    for _ in 0..m.min(8) {
+        let out: Vec<usize> = (0..m)
+            .filter(|&k| held[k].is_none() && !(lo[k]..=hi[k]).contains(&(u0[k] + du[k])))
+            .collect();
+        if out.is_empty() {
+            break;
+        }
+        for k in out {
+            held[k] = Some((u0[k] + du[k]).clamp(lo[k], hi[k]) - u0[k]);
+        }
+        let mut c2 = c.clone();
+        let mut r2 = r.clone();
+        let mut d2 = d.clone();
+        for (k, h) in held.iter().enumerate() {
+            if let Some(step) = h {
+                r2 -= c.column(k) * *step;
+                c2.column_mut(k).fill(0.0);
+                d2[k] = 0.0;
+            }
+        }
+        (du, condition, _) = kkt(&c2, &r2, scales, &d2, opts.rank_tol);
+        for (k, h) in held.iter().enumerate() {
+            if let Some(step) = h {
+                du[k] = *step;
+            }
+        }
+        unmet = (c * &du - r).norm();
+    }
+    (du, condition, unmet)
+}
+
 /// Gaussian samples from a small deterministic generator (SplitMix64 +
 /// Box–Muller), so updates are reproducible.
 struct Rng(u64);
@@ -228,6 +277,49 @@ impl Rng {
         let (a, b) = (self.next(), self.next());
         (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
     }
+}
+
+/// The signature of the events that can influence the constrained states:
+/// each constrained body's events up to `margin` past its latest
+/// constrained time (an event that moves across that time changes the
+/// residual's smooth component) and, through every body–body event kept,
+/// the other body's earlier events, transitively. A bounce of a body the
+/// constrained one never touched, or one after its constrained time, is not
+/// a discontinuity of the edit.
+fn causal_signature(tr: &Trajectory, constraints: &[Constraint], margin: f64) -> Vec<String> {
+    let bodies = tr.tracks.len();
+    let mut until = vec![f64::NEG_INFINITY; bodies];
+    for c in constraints {
+        if let Some(t) = c.time(tr) {
+            for b in c.bodies() {
+                if let Some(u) = until.get_mut(b) {
+                    *u = u.max(t + margin);
+                }
+            }
+        }
+    }
+    let signature = tr.signature();
+    let mut keep = vec![false; tr.events.len()];
+    for (k, e) in tr.events.iter().enumerate().rev() {
+        let other = match e.b {
+            crate::sim::Party::Body(j) if j < bodies => Some(j),
+            _ => None,
+        };
+        let reaches = |b: usize| until.get(b).is_some_and(|u| e.t <= *u);
+        if reaches(e.a) || other.is_some_and(reaches) {
+            keep[k] = true;
+            for b in std::iter::once(e.a).chain(other) {
+                if let Some(u) = until.get_mut(b) {
+                    *u = u.max(e.t);
+                }
+            }
+        }
+    }
+    signature
+        .into_iter()
+        .zip(keep)
+        .filter_map(|(s, k)| k.then_some(s))
+        .collect()
 }
 
 /// Simulate `u` up to `until` (the whole motion for `None`) and evaluate
@@ -284,25 +376,19 @@ pub fn update(
     }
     let before = residual_norm(traj, constraints);
     let mut diagnostics = Vec::new();
-    // Only the collisions up to the last constrained time shape the
-    // residual: later events may come and go without a discontinuity in
-    // what the edit asks for. The relevant signature is that prefix.
+    // Only the collisions in the causal past of the constrained states
+    // shape the residual: later events, and events of bodies that never
+    // touched a constrained body before its constrained time, may come and
+    // go without a discontinuity in what the edit asks for.
     let last = constraints
         .iter()
         .filter_map(|c| c.time(traj))
         .fold(0.0, f64::max);
-    let horizon = last + 0.02 * scene.duration;
-    let relevant = traj.events.iter().take_while(|e| e.t <= horizon).count();
+    let margin = 0.02 * scene.duration;
+    let horizon = last + margin;
     // Trials stop at the horizon: later events cannot change the residual.
     let until = (horizon < scene.duration).then_some(horizon);
-    // A trial compares its first `relevant` events, and also every event
-    // it has before the last constrained time: a collision that appears
-    // before a constraint (a second bounce, a new contact) is a new smooth
-    // component even when the first `relevant` events are unchanged.
-    let prefix = |tr: &Trajectory| -> Vec<String> {
-        let n = relevant.max(tr.events.iter().take_while(|e| e.t <= last).count());
-        tr.signature().into_iter().take(n).collect()
-    };
+    let prefix = |tr: &Trajectory| causal_signature(tr, constraints, margin);
     let signature = prefix(traj);
     // Desired values pull surface parameters back towards the geometric normal.
     let scales = controls.scales();
@@ -329,7 +415,7 @@ pub fn update(
                         .unwrap_or_default(),
                 });
             }
-            let (du, condition, unmet) = kkt(&c, &r, &scales, &d, opts.rank_tol);
+            let (du, condition, unmet) = bounded_kkt(&c, &r, &scales, &d, &u0, controls, opts);
             if !du.iter().all(|v| v.is_finite()) {
                 return Err(SolveError::NonFinite);
             }
@@ -351,7 +437,10 @@ pub fn update(
     };
     let (du, condition) = step.unwrap_or_else(|| (DVector::zeros(controls.m()), f64::NAN));
     // Successive step reduction within the current smooth component.
-    let mut crossing: Option<(f64, DVector<f64>)> = None;
+    // Steps that leave it are remembered: the best one is a pop when it
+    // lowers the residual, and the smallest one centres the sampling.
+    let mut best_crossing: Option<(f64, f64, Trajectory)> = None;
+    let mut smallest_crossing: Option<DVector<f64>> = None;
     let mut eps = opts.step;
     if du.norm() > 0.0 {
         for _ in 0..=opts.halvings {
@@ -371,19 +460,37 @@ pub fn update(
                             trajectory: Some(tr),
                         });
                     }
-                } else if crossing.is_none() {
-                    crossing = Some((eps, du.clone() * eps));
+                } else {
+                    smallest_crossing = Some(du.clone() * eps);
+                    if best_crossing.as_ref().is_none_or(|b| res < b.0) {
+                        best_crossing = Some((res, eps, tr));
+                    }
                 }
             }
             eps *= 0.5;
         }
     }
-    // The step leaves the smooth component (or no direction is known):
-    // sample around it and jump only if that beats staying put.
-    let centre = crossing
-        .as_ref()
-        .map(|c| c.1.clone())
-        .unwrap_or_else(|| du.clone() * opts.step);
+    // A step that leaves the component and still lowers the residual is a
+    // pop: the motion jumps to the neighbouring component.
+    if let Some((res, eps, tr)) = best_crossing.filter(|b| b.0 < before) {
+        diagnostics.push(Diagnostic::Pop {
+            from: traj.events.len(),
+            to: tr.events.len(),
+        });
+        return Ok(UpdateResult {
+            u: &u0 + &du * eps,
+            before,
+            after: res,
+            step: eps,
+            condition,
+            diagnostics,
+            trajectory: Some(tr),
+        });
+    }
+    // Otherwise sample around the smallest step that left the component
+    // (or around the full step when no direction is known) and jump only
+    // if that beats staying put.
+    let centre = smallest_crossing.unwrap_or_else(|| du.clone() * opts.step);
     let spread: DVector<f64> = if centre.norm() > 0.0 {
         centre
             .map(|v| 0.5 * v.abs())
@@ -405,6 +512,17 @@ pub fn update(
                         .map(|(c, s)| c + s * rng.gauss()),
                 )
             }
+        })
+        .collect();
+    // Candidates stay within the controls' bounds.
+    let (lo, hi) = controls.bounds();
+    let candidates: Vec<DVector<f64>> = candidates
+        .into_iter()
+        .map(|dv| {
+            DVector::from_iterator(
+                dv.len(),
+                (0..dv.len()).map(|k| (u0[k] + dv[k]).clamp(lo[k], hi[k]) - u0[k]),
+            )
         })
         .collect();
     let best = candidates
@@ -505,5 +623,107 @@ mod tests {
         );
         // A floating constraint's event still anchors the prefix as before.
         let _ = Side::Post;
+    }
+
+    /// The signature that decides whether a step stays in its smooth
+    /// component holds only what can reach the constrained state: a bounce
+    /// of a body that never touched the constrained one is left out, a
+    /// body–body collision brings in the other body's earlier events.
+    #[test]
+    fn the_causal_signature_leaves_out_bounces_the_constraint_cannot_see() {
+        let mut scene = testkit::scene(1.5);
+        let ball = |name: &str, x: f64, z: f64, vx: f64| {
+            let mut b = testkit::body(
+                name,
+                crate::geometry::Geometry::sphere(0.1).expect("ball"),
+                Vec3::new(x, 0.0, z),
+            );
+            b.velocity = Vec3::new(vx, 0.0, 0.0);
+            b
+        };
+        // a falls far from the others; b and c collide in the air at about
+        // t = 0.2 s, then both fall to the ground.
+        scene.bodies.push(ball("a", 5.0, 0.5, 0.0));
+        scene.bodies.push(ball("b", -0.5, 2.0, 2.0));
+        scene.bodies.push(ball("c", 0.5, 2.0, -2.0));
+        scene.pairs.push([1, 2]);
+        scene.obstacles.push(testkit::ground());
+        let controls = Controls::new(&scene);
+        let traj = simulate(&scene, &controls, &SimOptions::default()).expect("simulates");
+        let nail = |body: usize, t: f64| Constraint {
+            body,
+            anchor: Anchor::Time(t),
+            kind: Kind::State {
+                quantities: vec![StateQuantity::Position],
+                target: vec![0.0; 3],
+            },
+            drag: false,
+        };
+        let names = |sig: Vec<String>| -> Vec<String> {
+            sig.into_iter()
+                .map(|s| s.split('|').take(2).collect::<Vec<_>>().join("|"))
+                .collect()
+        };
+        let hit = traj
+            .events
+            .iter()
+            .find(|e| e.a == 1 && e.b == crate::sim::Party::Body(2));
+        let hit = hit.expect("b and c collide").t;
+        let a_lands = traj.events.iter().find(|e| e.a == 0).expect("a lands").t;
+        assert!(a_lands < 0.5, "a lands at {a_lands}");
+        // A nail on b after the collision: the collision counts, a's
+        // bounce (never connected to b) does not.
+        let sig = names(causal_signature(&traj, &[nail(1, hit + 0.05)], 0.0));
+        assert_eq!(sig, vec!["1|Body(2)".to_string()], "{sig:?}");
+        // A nail on a: only a's own bounce.
+        let sig = names(causal_signature(&traj, &[nail(0, 1.0)], 0.0));
+        assert!(
+            sig.iter().all(|s| s.starts_with("0|")) && !sig.is_empty(),
+            "{sig:?}"
+        );
+        // A nail on b before the collision: nothing yet.
+        assert!(causal_signature(&traj, &[nail(1, hit - 0.05)], 0.0).is_empty());
+    }
+
+    /// Steps never leave the controls' physical ranges: asked for more
+    /// bounce than restitution 1 gives, the update holds restitution at 1.
+    #[test]
+    fn a_step_is_held_at_the_bounds_of_restitution() {
+        let mut scene = testkit::scene(1.0);
+        let mut b = testkit::body(
+            "ball",
+            crate::geometry::Geometry::sphere(0.1).expect("ball"),
+            Vec3::new(0.0, 0.0, 0.6),
+        );
+        b.restitution = 0.9;
+        scene.bodies.push(b);
+        scene.obstacles.push(testkit::ground());
+        scene.event_controls.push(crate::scene::EventControl {
+            event: 0,
+            normal: None,
+            restitution: Some(0.9),
+        });
+        let controls = Controls::new(&scene);
+        let traj = simulate(&scene, &controls, &SimOptions::default()).expect("simulates");
+        let t = traj.events[0].t + 0.2;
+        let z = traj.state(0, t, crate::sim::StateSide::After).x.z;
+        // Twice as high as restitution 1 could take it.
+        let nail = Constraint {
+            body: 0,
+            anchor: Anchor::Time(t),
+            kind: Kind::State {
+                quantities: vec![StateQuantity::Position],
+                target: vec![0.0, 0.0, z + 1.0],
+            },
+            drag: false,
+        };
+        let res =
+            update(&scene, &controls, &traj, &[nail], &UpdateOptions::default()).expect("update");
+        assert!(
+            res.u.iter().all(|e| (0.0..=1.0).contains(e)),
+            "restitution {:?}",
+            res.u
+        );
+        assert!(res.after < res.before, "it still got closer");
     }
 }
