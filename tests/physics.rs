@@ -513,3 +513,41 @@ fn a_run_stopped_early_is_a_prefix_of_the_whole_run() {
         assert!((ja - jb).norm() < 1e-9, "t = {t}");
     }
 }
+
+/// A controlled normal tilted so far that a ball approaching along the
+/// ground's normal separates along the controlled one: no impulse can keep
+/// it out, and the search used to find the sinking contact again and again,
+/// 1e-10 s later each time, for ever (a solver trial on the mug hung the
+/// editor). The run now stops with a typed error naming the event.
+#[test]
+fn regression_a_normal_tilted_away_from_the_approach_hung_the_simulation() {
+    let mut s = testkit::scene(1.0);
+    let mut b = body(
+        "ball",
+        Geometry::sphere(0.1).unwrap(),
+        Vec3::new(0.0, 0.0, 0.3),
+    );
+    b.velocity = Vec3::new(3.0, 0.0, -0.5);
+    s.bodies.push(b);
+    s.obstacles.push(ground());
+    // The deviation's second axis is −x for the ground's normal: b < 0
+    // tilts the normal along the ball's travel (here by 45°).
+    s.event_controls.push(nudge::scene::EventControl {
+        event: 0,
+        normal: Some([0.0, -1.0]),
+        restitution: None,
+    });
+    let err = simulate(&s, &Controls::new(&s), &SimOptions::default()).expect_err("refused");
+    assert!(
+        matches!(
+            err,
+            nudge::sim::SimError::NormalAwayFromApproach { event: 0, .. }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("event0.normal"), "{err}");
+    // Tilted against the travel it is an ordinary (if odd) bounce.
+    s.event_controls[0].normal = Some([0.0, 1.0]);
+    let tr = simulate(&s, &Controls::new(&s), &SimOptions::default()).expect("bounces");
+    assert!(tr.events[0].separation > 0.0);
+}

@@ -17,6 +17,11 @@ use std::time::Instant;
 /// Most differential updates one settle makes.
 pub const MAX_SETTLE_UPDATES: usize = 100;
 
+/// Step halvings a settling update tries (a drag tries
+/// `UpdateOptions::halvings`): after an off-centre collision the linear
+/// model can hold for 1/64 of the Gauss–Newton step only.
+const SETTLE_HALVINGS: usize = 8;
+
 /// What undo and redo restore.
 #[derive(Clone)]
 struct Snapshot {
@@ -417,6 +422,9 @@ impl Editor {
         // goes on as long as the residual falls.
         let full = self.opts.step;
         let mut first = full;
+        // A drag that only creeps is better reported as blocked; settling
+        // towards typed values may take small steps.
+        let halvings = self.opts.halvings;
         for _ in 0..MAX_SETTLE_UPDATES {
             if self.wall_clock && start.elapsed().as_millis() >= u128::from(budget_ms.max(1)) {
                 break;
@@ -426,8 +434,10 @@ impl Editor {
             }
             let constraints = self.constraints.clone();
             self.opts.step = first;
+            self.opts.halvings = SETTLE_HALVINGS;
             let stepped = self.step(&constraints);
             self.opts.step = full;
+            self.opts.halvings = halvings;
             let (moved, d, after) = stepped?;
             diags = d;
             if !moved || after >= last * (1.0 - 1e-9) {

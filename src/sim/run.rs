@@ -110,6 +110,12 @@ pub enum SimError {
         rate: f64,
         step: f64,
     },
+    /// A controlled normal tilted so far from the contact's own normal that
+    /// the approaching bodies would separate along it.
+    #[error(
+        "the controlled normal of event {event} (t = {t:.6} s) is tilted so far that the colliding bodies would separate along it and pass through each other; reduce event{event}.normal or fix that event's controls"
+    )]
+    NormalAwayFromApproach { event: usize, t: f64 },
     /// The adaptive integrator could not meet the tolerance.
     #[error("the adaptive step fell below 1e-12 s at t = {t:.6} s; loosen the tolerance")]
     StepTooSmall { t: f64 },
@@ -242,6 +248,7 @@ pub fn simulate(
                     b: Party::Obstacle(o),
                     armed: true,
                     hold: 0.0,
+                    skips: 0,
                 });
             }
         }
@@ -251,6 +258,7 @@ pub fn simulate(
                 b: Party::Body(p[1]),
                 armed: true,
                 hold: 0.0,
+                skips: 0,
             });
         }
     }
@@ -724,13 +732,36 @@ impl Sim<'_> {
                 }
             }
         }
+        if res.approach >= 0.0 && ctx.normal_dev.is_some() {
+            // The bodies approach along the contact's normal, but the
+            // controlled normal is tilted so far that they separate along
+            // it: no impulse could keep them apart. Refuse (a solver trial
+            // fails; an edit is refused) rather than let them sink.
+            let at = |s: &BodyState, p: &Vec3| s.v + s.w.cross(&(p - s.x));
+            let vb = sb.map_or(Vec3::zeros(), |s| at(&s, &contact.point_b));
+            if n.dot(&(at(&sa, &contact.point_a) - vb)) < 0.0 {
+                return Err(SimError::NormalAwayFromApproach {
+                    event: index,
+                    t: tc,
+                });
+            }
+        }
         if res.approach >= 0.0 {
             // Touching without approaching (a graze at the root): no impulse;
             // resume this pair's search just past the contact.
             let v = res.separation.abs().max(1e-3);
             self.pairs[k].hold = tc + (10.0 * self.tol.root / v).max(1e-12 * tc.abs().max(1.0));
+            self.pairs[k].skips += 1;
+            if self.pairs[k].skips > super::events::MAX_SKIPS {
+                return Err(SimError::EventSearchStalled {
+                    a: self.scene.bodies[a].name.clone(),
+                    b: self.party_name(pair.b),
+                    t: tc,
+                });
+            }
             return Ok(());
         }
+        self.pairs[k].skips = 0;
         self.pairs[k].hold = tc;
         self.check_sustained(k, tc)?;
         // How the bounce ends (rest, slide, or on bouncing; see `sim::rest`).

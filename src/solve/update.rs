@@ -89,7 +89,7 @@ impl Default for UpdateOptions {
     fn default() -> Self {
         UpdateOptions {
             step: 1.0,
-            halvings: 8,
+            halvings: 4,
             samples: 24,
             rank_tol: 1e-12,
             seed: 0x5eed,
@@ -280,20 +280,19 @@ impl Rng {
 }
 
 /// The signature of the events that can influence the constrained states:
-/// each constrained body's events up to `margin` past its latest
-/// constrained time (an event that moves across that time changes the
-/// residual's smooth component) and, through every body–body event kept,
-/// the other body's earlier events, transitively. A bounce of a body the
-/// constrained one never touched, or one after its constrained time, is not
-/// a discontinuity of the edit.
-fn causal_signature(tr: &Trajectory, constraints: &[Constraint], margin: f64) -> Vec<String> {
+/// each constrained body's events up to its latest constrained time (an
+/// event that moves across that time appears in or leaves the list) and,
+/// through every body–body event kept, the other body's earlier events,
+/// transitively. A bounce of a body the constrained one never touched, or
+/// one after its constrained time, is not a discontinuity of the edit.
+fn causal_signature(tr: &Trajectory, constraints: &[Constraint]) -> Vec<String> {
     let bodies = tr.tracks.len();
     let mut until = vec![f64::NEG_INFINITY; bodies];
     for c in constraints {
         if let Some(t) = c.time(tr) {
             for b in c.bodies() {
                 if let Some(u) = until.get_mut(b) {
-                    *u = u.max(t + margin);
+                    *u = u.max(t);
                 }
             }
         }
@@ -384,11 +383,12 @@ pub fn update(
         .iter()
         .filter_map(|c| c.time(traj))
         .fold(0.0, f64::max);
-    let margin = 0.02 * scene.duration;
-    let horizon = last + margin;
-    // Trials stop at the horizon: later events cannot change the residual.
+    // Trials stop a little past the last constrained time (a floating
+    // constraint's collision may come later in a trial): later events
+    // cannot change the residual.
+    let horizon = last + 0.02 * scene.duration;
     let until = (horizon < scene.duration).then_some(horizon);
-    let prefix = |tr: &Trajectory| causal_signature(tr, constraints, margin);
+    let prefix = |tr: &Trajectory| causal_signature(tr, constraints);
     let signature = prefix(traj);
     // Desired values pull surface parameters back towards the geometric normal.
     let scales = controls.scales();
@@ -437,10 +437,8 @@ pub fn update(
     };
     let (du, condition) = step.unwrap_or_else(|| (DVector::zeros(controls.m()), f64::NAN));
     // Successive step reduction within the current smooth component.
-    // Steps that leave it are remembered: the best one is a pop when it
-    // lowers the residual, and the smallest one centres the sampling.
-    let mut best_crossing: Option<(f64, f64, Trajectory)> = None;
-    let mut smallest_crossing: Option<DVector<f64>> = None;
+    // The first step that leaves it centres the sampling.
+    let mut first_crossing: Option<DVector<f64>> = None;
     let mut eps = opts.step;
     if du.norm() > 0.0 {
         for _ in 0..=opts.halvings {
@@ -460,37 +458,17 @@ pub fn update(
                             trajectory: Some(tr),
                         });
                     }
-                } else {
-                    smallest_crossing = Some(du.clone() * eps);
-                    if best_crossing.as_ref().is_none_or(|b| res < b.0) {
-                        best_crossing = Some((res, eps, tr));
-                    }
+                } else if first_crossing.is_none() {
+                    first_crossing = Some(du.clone() * eps);
                 }
             }
             eps *= 0.5;
         }
     }
-    // A step that leaves the component and still lowers the residual is a
-    // pop: the motion jumps to the neighbouring component.
-    if let Some((res, eps, tr)) = best_crossing.filter(|b| b.0 < before) {
-        diagnostics.push(Diagnostic::Pop {
-            from: traj.events.len(),
-            to: tr.events.len(),
-        });
-        return Ok(UpdateResult {
-            u: &u0 + &du * eps,
-            before,
-            after: res,
-            step: eps,
-            condition,
-            diagnostics,
-            trajectory: Some(tr),
-        });
-    }
-    // Otherwise sample around the smallest step that left the component
-    // (or around the full step when no direction is known) and jump only
-    // if that beats staying put.
-    let centre = smallest_crossing.unwrap_or_else(|| du.clone() * opts.step);
+    // Otherwise (and when no direction is known) sample around the step
+    // that left the component — the largest one — and jump only if that
+    // beats staying put (DESIGN §7).
+    let centre = first_crossing.unwrap_or_else(|| du.clone() * opts.step);
     let spread: DVector<f64> = if centre.norm() > 0.0 {
         centre
             .map(|v| 0.5 * v.abs())
@@ -673,16 +651,16 @@ mod tests {
         assert!(a_lands < 0.5, "a lands at {a_lands}");
         // A nail on b after the collision: the collision counts, a's
         // bounce (never connected to b) does not.
-        let sig = names(causal_signature(&traj, &[nail(1, hit + 0.05)], 0.0));
+        let sig = names(causal_signature(&traj, &[nail(1, hit + 0.05)]));
         assert_eq!(sig, vec!["1|Body(2)".to_string()], "{sig:?}");
         // A nail on a: only a's own bounce.
-        let sig = names(causal_signature(&traj, &[nail(0, 1.0)], 0.0));
+        let sig = names(causal_signature(&traj, &[nail(0, 1.0)]));
         assert!(
             sig.iter().all(|s| s.starts_with("0|")) && !sig.is_empty(),
             "{sig:?}"
         );
         // A nail on b before the collision: nothing yet.
-        assert!(causal_signature(&traj, &[nail(1, hit - 0.05)], 0.0).is_empty());
+        assert!(causal_signature(&traj, &[nail(1, hit - 0.05)]).is_empty());
     }
 
     /// Steps never leave the controls' physical ranges: asked for more
