@@ -74,6 +74,10 @@ pub enum Edit {
     },
     /// An expression constraint on the selected body at the current time.
     Expression(Expression),
+    /// The selected body's z axis (its shape frame's) points straight up:
+    /// at the current time (`side: None`), or just before or after its
+    /// collision nearest the current time (a floating constraint).
+    Upright { side: Option<Side> },
     /// Remove the constraint with this index (in the constraints panel order).
     RemoveConstraint(usize),
     /// Free or fix a control block of a body.

@@ -17,5 +17,5 @@ pub use contact::{
     Contact, Corner, FlatFace, NearPoint, contact, flat_faces, near_points, part_contacts,
     part_near_points, point_parabola,
 };
-pub use feature::{ContactGeometry, FeaturePair, PoseT, SideFeature};
+pub use feature::{ContactGeometry, FeaturePair, PatchCorner, PoseT, SideFeature};
 pub use shapes::{Geometry, GeometryError, MassProps, Part, PartKind};

@@ -2029,8 +2029,10 @@ fn regression_a_ladder_held_by_friction_chattered_against_the_wall() {
     s.effects.friction = false;
     let tr = run_ok(&s);
     let end = tr.state(0, s.duration, StateSide::After);
+    // Lying on the floor, to within the support band in which a slide
+    // starts (10 v_r² / g = 0.4 mm).
     assert!(
-        (end.x.z - 0.02).abs() < 1e-4,
+        (end.x.z - 0.02).abs() < 4e-4,
         "lying on the floor, z = {}",
         end.x.z
     );

@@ -593,6 +593,28 @@ impl Editor {
                     drag: false,
                 });
             }
+            Edit::Upright { side } => {
+                let anchor = match side {
+                    None => Anchor::Time(self.time),
+                    Some(side) => {
+                        let (collision, _) = self.nearest_collision().ok_or_else(|| {
+                            invalid(format!(
+                                "{} has no collision to hold it upright at",
+                                self.scene.bodies[self.selected].name
+                            ))
+                        })?;
+                        Anchor::Event { collision, side }
+                    }
+                };
+                // The shape's z axis (the body frame is the shape's, moved
+                // to the centre of mass).
+                self.constraints.push(Constraint {
+                    body: self.selected,
+                    anchor,
+                    kind: Kind::Upright { axis: Vec3::z() },
+                    drag: false,
+                });
+            }
             Edit::RemoveConstraint(i) => {
                 if i >= self.constraints.len() {
                     return Err(invalid(format!(
@@ -823,6 +845,7 @@ fn to_spec(scene: &Scene, c: &Constraint) -> ConstraintSpec {
         }
         Kind::EqualSpeed { other } => spec.other = Some(name(*other)),
         Kind::AngularSpeed { value } => spec.target = vec![*value],
+        Kind::Upright { axis } => spec.target = axis.iter().cloned().collect(),
         Kind::PointOnPlane {
             point,
             normal,
@@ -889,6 +912,7 @@ fn from_spec(scene: &Scene, s: &ConstraintSpec) -> Option<Constraint> {
         "angular_speed" => Kind::AngularSpeed {
             value: *s.target.first()?,
         },
+        "upright" => Kind::Upright { axis: v3(0)? },
         "point_on_plane" => Kind::PointOnPlane {
             point: v3(0)?,
             normal: v3(3)?,

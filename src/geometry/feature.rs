@@ -44,11 +44,15 @@ pub struct FeaturePair {
     pub part_b: usize,
     /// Orientation of the edge–edge normal relative to `d_a × d_b`.
     pub sign: f64,
-    /// The corners of the contact patch when the contact is a whole patch
-    /// hit at once (see [`FeaturePair::at_patch`]): the impulse acts at
-    /// their centroid; the distance and normal stay those of the touching
-    /// features. Empty for a contact of single features.
-    pub patch: Vec<Corner>,
+    /// The contact patch when a flat face lies in the contact plane (see
+    /// [`FeaturePair::at_patch`]): the impulse acts at the corners'
+    /// centroid weighted by how close each is to the face; the distance and
+    /// normal stay those of the touching features. Empty for a contact of
+    /// single features.
+    pub patch: Vec<PatchCorner>,
+    /// Depth (m) over which a patch corner's weight falls from 1 (on the
+    /// face) to 0.
+    pub patch_depth: f64,
 }
 
 /// A pose with a generic scalar (so dual numbers can flow through it).
@@ -145,6 +149,45 @@ fn side(g: &Geometry, part: usize, pose: &Isometry3<f64>, towards: &Vec3) -> Sid
                 },
             }
         }
+    }
+}
+
+/// A corner of a contact patch and the flat face it lies on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PatchCorner {
+    pub corner: Corner,
+    /// Whether the face is `a`'s (else `b`'s).
+    pub face_on_a: bool,
+    /// The face's outward unit normal and a point of it, in its owner's frame.
+    pub face_normal: Vec3,
+    pub face_point: Vec3,
+}
+
+impl PatchCorner {
+    /// The corner's height over its face (m) and its position, world.
+    fn height<T: RealField>(&self, pa: &PoseT<T>, pb: &PoseT<T>) -> (T, Vector3<T>) {
+        let c = corner_point(&self.corner, pa, pb);
+        let owner = if self.face_on_a { pa } else { pb };
+        let m = world_dir(owner, &self.face_normal);
+        let q = world_point(owner, &self.face_point);
+        (m.dot(&(&c - q)), c)
+    }
+}
+
+/// A corner's weight in the patch centroid at height `h` over its face:
+/// `(1 − h/D)²` below the depth `D`, 0 above. It falls smoothly to 0 at
+/// `D`, so corners enter and leave the patch without a jump of the impulse
+/// point (and without a change of the motion's signature). It is smooth
+/// through `h = 0` too (a corner touching at the event, or sunk a skin
+/// into the face, has weight about 1): a clamp there would differentiate
+/// one-sided at the root.
+fn corner_weight<T: RealField>(h: T, depth: f64) -> T {
+    let d: T = convert(depth);
+    if h >= d {
+        T::zero()
+    } else {
+        let x = T::one() - h / d;
+        x.clone() * x
     }
 }
 
@@ -257,6 +300,7 @@ impl FeaturePair {
             part_b: c.part_b,
             sign,
             patch: Vec::new(),
+            patch_depth: 0.0,
         }
     }
 
@@ -306,8 +350,7 @@ impl FeaturePair {
         if self.patch.is_empty() {
             key
         } else {
-            let corners: Vec<String> = self.patch.iter().map(Corner::name).collect();
-            format!("{key}@{}", corners.join(","))
+            format!("{key}@patch")
         }
     }
 
@@ -315,7 +358,7 @@ impl FeaturePair {
     /// simultaneous contact resolved as one impulse at their centroid).
     pub fn simultaneous(&self) -> usize {
         if !self.patch.is_empty() {
-            return self.patch.len();
+            return self.patch.len().max(2);
         }
         match (&self.a, &self.b) {
             (SideFeature::Point { vertices, .. }, _) if vertices.len() > 1 => vertices.len(),
@@ -394,18 +437,20 @@ impl FeaturePair {
         }
     }
 
-    /// A whole contact patch hit at once (an edge or a face landing on a
-    /// face, a plank across a support): the same touching features — whose
-    /// distance is the event function and whose normal the impulse takes —
-    /// with the impulse at the centroid of the patch's `corners`. One
-    /// impulse there is the simultaneous impact of the corners; taking
-    /// them one by one instead depends on their order and rocks and turns
-    /// the body (friction at an off-centre corner). The centroid follows
-    /// each corner's features as the owners move, so the collision
-    /// Jacobian stays exact.
-    pub fn at_patch(&self, corners: Vec<Corner>) -> FeaturePair {
+    /// A contact where a flat face lies in the contact plane (an edge or a
+    /// face landing on a face, a plank across a support): the same touching
+    /// features — whose distance is the event function and whose normal the
+    /// impulse takes — with the impulse at the centroid of the patch's
+    /// `corners`, each weighted by its height over its face (full weight on
+    /// it, none from `depth` up). One impulse there is the simultaneous
+    /// impact of the corners; taking them one by one instead depends on
+    /// their order and rocks and turns the body (friction at an off-centre
+    /// corner). The weights and the centroid follow each corner's features
+    /// as the owners move, so the collision Jacobian stays exact.
+    pub fn at_patch(&self, corners: Vec<PatchCorner>, depth: f64) -> FeaturePair {
         FeaturePair {
             patch: corners,
+            patch_depth: depth,
             ..self.clone()
         }
     }
@@ -417,12 +462,18 @@ impl FeaturePair {
         let mut geo = self.evaluate_features(pa, pb);
         if !self.patch.is_empty() {
             let mut sum = Vector3::<T>::zeros();
+            let mut total = T::zero();
             for corner in &self.patch {
-                sum += corner_point(corner, pa, pb);
+                let (h, c) = corner.height(pa, pb);
+                let w = corner_weight(h, self.patch_depth);
+                sum += c * w.clone();
+                total += w;
             }
-            let centroid = sum / convert::<f64, T>(self.patch.len() as f64);
-            geo.point_b = &centroid - &geo.normal * geo.distance.clone();
-            geo.point_a = centroid;
+            if total > T::zero() {
+                let centroid = sum / total;
+                geo.point_b = &centroid - &geo.normal * geo.distance.clone();
+                geo.point_a = centroid;
+            }
         }
         geo
     }

@@ -22,17 +22,22 @@ pub(crate) struct Pair {
     /// found not to be approaching is skipped past).
     pub hold: f64,
     /// Contacts of this pair skipped in a row as not approaching, with no
-    /// impulse in between (see [`MAX_SKIPS`]).
+    /// impulse in between, and the time of the first of them (see
+    /// [`MAX_SKIPS`]).
     pub skips: usize,
+    pub skipped_since: f64,
 }
 
 /// A pair whose contact is skipped as "not approaching" this many times in
-/// a row is stuck: the search and the impulse model disagree about a
-/// contact that neither separates nor closes (a penetrating point that the
-/// contact features do not see approach), and skipping it 1e-10 s at a time
-/// would take forever. The run stops with
+/// a row within [`SKIP_SPAN`] is stuck: the search and the impulse model
+/// disagree about a contact that neither separates nor closes (a
+/// penetrating point that the contact features do not see approach), and
+/// skipping it 1e-10 s at a time would take forever. The run stops with
 /// [`super::SimError::EventSearchStalled`] instead.
 pub(crate) const MAX_SKIPS: usize = 1000;
+
+/// See [`MAX_SKIPS`], s.
+pub(crate) const SKIP_SPAN: f64 = 1e-6;
 
 /// Tolerances of the event search.
 #[derive(Debug, Clone, Copy)]

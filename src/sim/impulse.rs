@@ -607,6 +607,7 @@ mod tests {
             part_b: 0,
             sign: 1.0,
             patch: Vec::new(),
+            patch_depth: 0.0,
         };
         let vertex_floor = ctx(
             pair(

@@ -9,7 +9,7 @@ use super::rest::{self, Mode, Slide};
 use super::state::{BodyState, StateSide};
 use super::trajectory::{Counters, Event, Party, Segment, TangentError, Track, Trajectory};
 use crate::controls::Controls;
-use crate::geometry::{Corner, FeaturePair, PartKind};
+use crate::geometry::{Corner, FeaturePair, PartKind, PatchCorner};
 use crate::math::{Vec3, exp_so3, left_jacobian};
 use crate::scene::{Block, Method, Scene};
 use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
@@ -24,13 +24,13 @@ use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
 const SUBSTEP_TURN: f64 = 0.05;
 /// More substeps than this per step: [`SimError::SpinTooFast`].
 const MAX_SUBSTEPS: usize = 10_000;
-/// Corners of a contact patch that would touch within this time (s) of the
-/// first one (at their approach speed) take part in the same impact: about
-/// how long an impact between stiff bodies lasts (0.1 ms for steel, about
-/// 1 ms for wood on felt). An edge or face landing
-/// nearly flat is then one impulse at the patch's centroid, not a sequence
-/// of corner impacts whose order rocks and turns the body.
-const PATCH_TIME: f64 = 1e-4;
+/// Depth of a contact patch as a fraction of the body's reach: corners on
+/// a flat face weigh fully in the impulse point, corners up to this height
+/// over it (3e-4 of the body's size: 0.2 mm for a 1.2 m plank, 20 µm for a
+/// mug) less and less. An edge or face landing nearly flat is then one
+/// impulse near the patch's centre, not a sequence of corner impacts whose
+/// order rocks and turns the body.
+const PATCH_DEPTH: f64 = 1e-3;
 /// A face takes part in a contact patch when its normal is within this
 /// angle (rad) of the contact normal.
 const PATCH_ANGLE: f64 = 0.02;
@@ -249,6 +249,7 @@ pub fn simulate(
                     armed: true,
                     hold: 0.0,
                     skips: 0,
+                    skipped_since: 0.0,
                 });
             }
         }
@@ -259,6 +260,7 @@ pub fn simulate(
                 armed: true,
                 hold: 0.0,
                 skips: 0,
+                skipped_since: 0.0,
             });
         }
     }
@@ -660,20 +662,25 @@ impl Sim<'_> {
         if friction > 0.0 {
             Counters::bump(&self.traj.counters.friction, 1);
         }
-        if let Some(corners) = self.patch(
+        if let Some((corners, depth)) = self.patch(
             a,
             &body_a.geometry.parts[contact.part_a],
             &sa,
-            pair.b_body(),
             gb.parts.get(contact.part_b),
             &pose_b,
-            sb.as_ref(),
             contact,
         ) {
-            let patch = feature.at_patch(corners);
+            let patch = feature.at_patch(corners, depth);
             ctx.feature = patch.clone();
             let r2 = ctx.apply();
-            if r2.approach < 0.0 {
+            // The patch's impulse must also stop the touching point: a body
+            // pivoting fast about it (a box spinning onto a corner) would
+            // otherwise keep sinking there while the centroid separates.
+            let touching = contact.point_a;
+            let at = |v: &Vec3, w: &Vec3, x: &Vec3| v + w.cross(&(touching - x));
+            let vb = sb.map_or(Vec3::zeros(), |s| at(&r2.vb, &r2.wb, &s.x));
+            let stopped = n.dot(&(at(&r2.va, &r2.wa, &sa.x) - vb)) >= -1e-9 * r2.approach.abs();
+            if r2.approach < 0.0 && stopped {
                 feature = patch;
                 res = r2;
             } else {
@@ -751,8 +758,13 @@ impl Sim<'_> {
             // resume this pair's search just past the contact.
             let v = res.separation.abs().max(1e-3);
             self.pairs[k].hold = tc + (10.0 * self.tol.root / v).max(1e-12 * tc.abs().max(1.0));
-            self.pairs[k].skips += 1;
-            if self.pairs[k].skips > super::events::MAX_SKIPS {
+            let p = &mut self.pairs[k];
+            if p.skips == 0 || tc - p.skipped_since > super::events::SKIP_SPAN {
+                p.skips = 0;
+                p.skipped_since = tc;
+            }
+            p.skips += 1;
+            if p.skips > super::events::MAX_SKIPS {
                 return Err(SimError::EventSearchStalled {
                     a: self.scene.bodies[a].name.clone(),
                     b: self.party_name(pair.b),
@@ -930,27 +942,23 @@ impl Sim<'_> {
         Ok(())
     }
 
-    /// The contact patch of an impact, when more than one of its corners
-    /// hits at once: the corners that approach and would touch within
-    /// [`PATCH_TIME`] at their approach speed, on a flat face of either
-    /// party that lies in the contact plane (within [`PATCH_ANGLE`]): an
-    /// edge or face landing on a face, a face on an edge. Two curved
-    /// (tessellated) surfaces never touch in a patch: their facets meet
-    /// at angles, and a patch over many small facets would change with
-    /// every nudge. `a` and `b` are the parties' body indices (`b` is
-    /// `None` for an obstacle).
+    /// The contact patch of an impact: when a flat face of either party
+    /// lies in the contact plane (within [`PATCH_ANGLE`]) — an edge or face
+    /// landing on a face, a face on an edge — the corners lying on it
+    /// within twice the patch depth, each with its face (see
+    /// [`crate::geometry::FeaturePair::at_patch`]), and the depth. Two
+    /// curved (tessellated) surfaces never touch in a patch: their facets
+    /// meet at angles. `a` is the body's index.
     #[allow(clippy::too_many_arguments)]
     fn patch(
         &self,
         a: usize,
         part_a: &crate::geometry::Part,
         sa: &BodyState,
-        b: Option<usize>,
         part_b: Option<&crate::geometry::Part>,
         pose_b: &Isometry3<f64>,
-        sb: Option<&BodyState>,
         contact: &crate::geometry::Contact,
-    ) -> Option<Vec<Corner>> {
+    ) -> Option<(Vec<PatchCorner>, f64)> {
         let part_b = part_b?;
         if !matches!(part_a.kind, PartKind::Convex { .. }) {
             return None;
@@ -963,61 +971,63 @@ impl Sim<'_> {
         if flat_a.is_empty() && flat_b.is_empty() {
             return None;
         }
+        let depth = PATCH_DEPTH * self.traj.dynamics[a].reach;
+        let band = 2.0 * depth;
         // A corner takes part when it is a vertex lying on the other
         // party's flat face, or where an edge lying on one party's flat
         // face crosses the other's edge. (Around a vertex touching a face
         // the edges rise away from it: their crossings are not contacts.)
-        let lies = |faces: &[crate::geometry::FlatFace], p: &Vec3, band: f64| {
-            faces.iter().any(|f| f.holds(p, band))
+        let face = |faces: &[crate::geometry::FlatFace], p: &Vec3, on_a: bool| {
+            faces
+                .iter()
+                .find(|f| f.holds(p, band))
+                .map(|f| (f.clone(), on_a))
         };
-        let on_plane =
-            |faces: &[crate::geometry::FlatFace], p: &Vec3, q: &Vec3, at: &Vec3, band: f64| {
-                faces.iter().any(|f| {
-                    f.holds(at, band)
-                        && (f.normal.dot(p) - f.offset).abs() <= band
-                        && (f.normal.dot(q) - f.offset).abs() <= band
-                })
+        let lying =
+            |faces: &[crate::geometry::FlatFace], p: &Vec3, q: &Vec3, at: &Vec3, on_a: bool| {
+                faces
+                    .iter()
+                    .find(|f| {
+                        f.holds(at, band)
+                            && (f.normal.dot(p) - f.offset).abs() <= band
+                            && (f.normal.dot(q) - f.offset).abs() <= band
+                    })
+                    .map(|f| (f.clone(), on_a))
             };
-        let qualifies = |c: &Corner, at: &Vec3, band: f64| match c {
-            Corner::A { .. } => lies(&flat_b, at, band),
-            Corner::B { p, .. } => {
-                lies(&flat_a, &(pose_b * nalgebra::Point3::from(*p)).coords, band)
-            }
+        let world = |pose: &Isometry3<f64>, p: &Vec3| (pose * nalgebra::Point3::from(*p)).coords;
+        let face_of = |c: &Corner, at: &Vec3| match c {
+            Corner::A { .. } => face(&flat_b, at, false),
+            Corner::B { p, .. } => face(&flat_a, &world(pose_b, p), true),
             Corner::Crossing { a: ea, b: eb, .. } => {
-                let wa = ea.map(|p| (pose_a * nalgebra::Point3::from(p)).coords);
-                let wb = eb.map(|p| (pose_b * nalgebra::Point3::from(p)).coords);
-                on_plane(&flat_b, &wa[0], &wa[1], at, band)
-                    || on_plane(&flat_a, &wb[0], &wb[1], at, band)
+                let wa = ea.map(|p| world(&pose_a, &p));
+                let wb = eb.map(|p| world(pose_b, &p));
+                lying(&flat_b, &wa[0], &wa[1], at, false)
+                    .or_else(|| lying(&flat_a, &wb[0], &wb[1], at, true))
             }
-            Corner::Ball => false,
+            Corner::Ball => None,
         };
-        let velocity_b = |p: &Vec3| sb.map_or(Vec3::zeros(), |s| s.v + s.w.cross(&(p - s.x)));
-        let approach = |p: &Vec3| -n.dot(&(sa.v + sa.w.cross(&(p - sa.x)) - velocity_b(p)));
-        // No point of either party is faster than this.
-        let bound = |i: usize, s: &BodyState| s.v.norm() + s.w.norm() * self.traj.dynamics[i].reach;
-        let max_speed = bound(a, sa) + b.zip(sb).map_or(0.0, |(j, s)| bound(j, s));
-        let skin = 10.0 * self.tol.arm;
-        let near = crate::geometry::part_near_points(
-            part_a,
-            &pose_a,
-            part_b,
-            pose_b,
-            skin + PATCH_TIME * max_speed,
-        );
+        let near = crate::geometry::part_near_points(part_a, &pose_a, part_b, pose_b, band);
         let merge = 1e-9 * (1.0 + sa.x.norm());
-        let mut corners: Vec<(Vec3, Corner)> = Vec::new();
+        let mut seen: Vec<Vec3> = Vec::new();
+        let mut corners = Vec::new();
         for p in near {
-            let speed = approach(&p.point);
-            let band = skin + PATCH_TIME * speed;
-            if speed > 0.0
-                && p.distance <= band
-                && qualifies(&p.corner, &p.point, band)
-                && corners.iter().all(|c| (c.0 - p.point).norm() > merge)
-            {
-                corners.push((p.point, p.corner));
+            if seen.iter().any(|c| (c - p.point).norm() <= merge) {
+                continue;
+            }
+            if let Some((f, on_a)) = face_of(&p.corner, &p.point) {
+                let owner = if on_a { &pose_a } else { pose_b };
+                seen.push(p.point);
+                corners.push(PatchCorner {
+                    corner: p.corner,
+                    face_on_a: on_a,
+                    face_normal: owner.inverse_transform_vector(&f.normal),
+                    face_point: owner
+                        .inverse_transform_point(&nalgebra::Point3::from(f.normal * f.offset))
+                        .coords,
+                });
             }
         }
-        (corners.len() >= 2).then(|| corners.into_iter().map(|c| c.1).collect())
+        (!corners.is_empty()).then_some((corners, depth))
     }
 
     /// Refuse a pair that chatters: many impacts in a tiny span of time.

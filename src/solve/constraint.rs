@@ -34,6 +34,12 @@ pub enum Kind {
         normal: Vec3,
         offset: f64,
     },
+    /// The body-frame unit vector `axis` points straight up (world +z,
+    /// against the conventional gravity): "upright", whatever the turn
+    /// about the vertical. Residual `ẑ − R axis` (3 rows, rank 2 at the
+    /// solution, so the solver's rank-revealing solve drops the third);
+    /// upside down it is 2, not 0.
+    Upright { axis: Vec3 },
     /// `|p − p_other| = value` between body-frame points.
     Distance {
         other: usize,
@@ -75,6 +81,7 @@ impl Constraint {
     pub fn rows(&self) -> usize {
         match &self.kind {
             Kind::State { quantities, .. } => 3 * quantities.len(),
+            Kind::Upright { .. } => 3,
             _ => 1,
         }
     }
@@ -88,6 +95,7 @@ impl Constraint {
             (Kind::EqualSpeed { .. }, ..) => "equal_speed",
             (Kind::AngularSpeed { .. }, ..) => "angular_speed",
             (Kind::PointOnPlane { .. }, ..) => "point_on_plane",
+            (Kind::Upright { .. }, ..) => "upright",
             (Kind::Distance { .. }, ..) => "distance",
         }
     }
@@ -232,6 +240,13 @@ impl Constraint {
                     dynamic(&(n.transpose() * (j.rows(0, 3) - skew(&arm) * j.rows(3, 3))))
                 });
                 Ok((DVector::from_element(1, -g), c))
+            }
+            Kind::Upright { axis } => {
+                let a = s.q * axis.normalize();
+                let r = Vec3::z() - a;
+                // δa = δθ × a = −[a]× δθ.
+                let c = e.jac.map(|j| dynamic(&(-skew(&a) * j.rows(3, 3))));
+                Ok((DVector::from_column_slice(r.as_slice()), c))
             }
             Kind::Distance {
                 other,

@@ -717,6 +717,19 @@ impl App {
         };
         match cmd {
             Command::Nail { quantities, exact } => self.nail(core, quantities, exact),
+            Command::Upright(side) => {
+                if self.apply(core, Edit::Upright { side }).is_some() {
+                    let view = core.view();
+                    let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
+                    let at = match side {
+                        None => format!("at t={}", super::format::num(view.time, 8)),
+                        Some(Side::Pre) => "just before its nearest collision".to_string(),
+                        Some(Side::Post) => "just after its nearest collision".to_string(),
+                    };
+                    let hint = settle_hint(true, &view);
+                    self.say_info(format!("{body} upright {at}{hint}"));
+                }
+            }
             Command::Float {
                 side,
                 quantities,

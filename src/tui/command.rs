@@ -32,6 +32,9 @@ pub enum Command {
         quantities: Vec<StateQuantity>,
         exact: Vec<(StateQuantity, Vec3)>,
     },
+    /// `:upright [pre|post]`: the body's z axis straight up now, or at the
+    /// nearest collision (floating).
+    Upright(Option<Side>),
     /// `:set tol X`: adaptive integrator with tolerance X.
     SetTol(f64),
     /// `:set step H`: RK4 with step H (s).
@@ -288,6 +291,16 @@ pub fn parse(line: &str) -> Result<Command, CommandError> {
                 exact,
             }
         }
+        "upright" => {
+            let side = match w.get(1) {
+                None => None,
+                Some("pre") => Some(Side::Pre),
+                Some("post") => Some(Side::Post),
+                Some(_) => return Err(w.err(1, "expected pre, post or nothing")),
+            };
+            w.no_more(2)?;
+            Command::Upright(side)
+        }
         "set" => {
             let what = w.need(1, "setting (tol, step, method, roottol, scale, nudge)")?;
             let cmd = match what {
@@ -522,6 +535,8 @@ mod tests {
                 exact: vec![]
             })
         );
+        assert_eq!(parse("upright"), Ok(Command::Upright(None)));
+        assert_eq!(parse("upright pre"), Ok(Command::Upright(Some(Side::Pre))));
         assert_eq!(parse("set tol 1e-9"), Ok(Command::SetTol(1e-9)));
         assert_eq!(parse("set step 1e-3"), Ok(Command::SetStep(1e-3)));
         assert_eq!(
@@ -591,5 +606,9 @@ mod tests {
         );
         assert!(err("free ball wings").starts_with(":free ball wings: unknown block"));
         assert_eq!(err("free"), ":free: missing body (name or index)");
+        assert_eq!(
+            err("upright later"),
+            ":upright later: expected pre, post or nothing"
+        );
     }
 }

@@ -567,6 +567,10 @@ pub const COMMANDS: &[(&str, &str)] = &[
         ":float [pre|post] [qty..]",
         "floating constraint at nearest collision",
     ),
+    (
+        ":upright [pre|post]",
+        "z axis up now (or at nearest collision)",
+    ),
     (":set tol 1e-9", "adaptive integrator with this tolerance"),
     (":set step 1e-3", "fixed-step RK4 with this step (s)"),
     (
