@@ -53,6 +53,9 @@ pub struct FeaturePair {
     /// Depth (m) over which a patch corner's weight falls from 1 (on the
     /// face) to 0.
     pub patch_depth: f64,
+    /// The flat face whose normal a patch impulse takes: whether it is
+    /// `a`'s, and its outward normal in its owner's frame.
+    pub patch_face: Option<(bool, Vec3)>,
 }
 
 /// A pose with a generic scalar (so dual numbers can flow through it).
@@ -301,6 +304,7 @@ impl FeaturePair {
             sign,
             patch: Vec::new(),
             patch_depth: 0.0,
+            patch_face: None,
         }
     }
 
@@ -350,7 +354,14 @@ impl FeaturePair {
         if self.patch.is_empty() {
             key
         } else {
-            format!("{key}@patch")
+            // Which corner touches first does not matter for a patch: the
+            // impulse acts at the weighted centroid along the face normal,
+            // both continuous as the touching corner changes.
+            let side = match self.patch_face {
+                Some((true, _)) => "a",
+                _ => "b",
+            };
+            format!("{}:patch/{}:face-{side}", self.part_a, self.part_b)
         }
     }
 
@@ -439,18 +450,25 @@ impl FeaturePair {
 
     /// A contact where a flat face lies in the contact plane (an edge or a
     /// face landing on a face, a plank across a support): the same touching
-    /// features — whose distance is the event function and whose normal the
-    /// impulse takes — with the impulse at the centroid of the patch's
-    /// `corners`, each weighted by its height over its face (full weight on
-    /// it, none from `depth` up). One impulse there is the simultaneous
+    /// features — whose distance is the event function — with the impulse
+    /// along the flat `face`'s normal (`(true, n)`: a face of `a`, `n` in
+    /// its frame), at the centroid of the patch's `corners`, each weighted
+    /// by its height over its face (full weight on it, none from `depth`
+    /// up). One impulse there is the simultaneous
     /// impact of the corners; taking them one by one instead depends on
     /// their order and rocks and turns the body (friction at an off-centre
     /// corner). The weights and the centroid follow each corner's features
     /// as the owners move, so the collision Jacobian stays exact.
-    pub fn at_patch(&self, corners: Vec<PatchCorner>, depth: f64) -> FeaturePair {
+    pub fn at_patch(
+        &self,
+        corners: Vec<PatchCorner>,
+        depth: f64,
+        face: (bool, Vec3),
+    ) -> FeaturePair {
         FeaturePair {
             patch: corners,
             patch_depth: depth,
+            patch_face: Some(face),
             ..self.clone()
         }
     }
@@ -468,6 +486,14 @@ impl FeaturePair {
                 let w = corner_weight(h, self.patch_depth);
                 sum += c * w.clone();
                 total += w;
+            }
+            if let Some((on_a, normal)) = &self.patch_face {
+                // The face's normal, pointing from b towards a.
+                geo.normal = if *on_a {
+                    -world_dir(pa, normal)
+                } else {
+                    world_dir(pb, normal)
+                };
             }
             if total > T::zero() {
                 let centroid = sum / total;

@@ -608,6 +608,7 @@ mod tests {
             sign: 1.0,
             patch: Vec::new(),
             patch_depth: 0.0,
+            patch_face: None,
         };
         let vertex_floor = ctx(
             pair(

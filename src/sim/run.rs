@@ -662,7 +662,7 @@ impl Sim<'_> {
         if friction > 0.0 {
             Counters::bump(&self.traj.counters.friction, 1);
         }
-        if let Some((corners, depth)) = self.patch(
+        if let Some((corners, depth, face)) = self.patch(
             a,
             &body_a.geometry.parts[contact.part_a],
             &sa,
@@ -670,7 +670,7 @@ impl Sim<'_> {
             &pose_b,
             contact,
         ) {
-            let patch = feature.at_patch(corners, depth);
+            let patch = feature.at_patch(corners, depth, face);
             ctx.feature = patch.clone();
             let r2 = ctx.apply();
             // The patch's impulse must also stop the touching point: a body
@@ -958,7 +958,7 @@ impl Sim<'_> {
         part_b: Option<&crate::geometry::Part>,
         pose_b: &Isometry3<f64>,
         contact: &crate::geometry::Contact,
-    ) -> Option<(Vec<PatchCorner>, f64)> {
+    ) -> Option<(Vec<PatchCorner>, f64, (bool, Vec3))> {
         let part_b = part_b?;
         if !matches!(part_a.kind, PartKind::Convex { .. }) {
             return None;
@@ -968,9 +968,19 @@ impl Sim<'_> {
         let cos = PATCH_ANGLE.cos();
         let flat_a = crate::geometry::flat_faces(part_a, &pose_a, &-n, cos);
         let flat_b = crate::geometry::flat_faces(part_b, pose_b, &n, cos);
-        if flat_a.is_empty() && flat_b.is_empty() {
-            return None;
-        }
+        // The impulse takes the normal of b's flat face, or of a's; the one
+        // closest to the contact normal.
+        let closest = |faces: &[crate::geometry::FlatFace], dir: &Vec3| {
+            faces
+                .iter()
+                .max_by(|x, y| x.normal.dot(dir).total_cmp(&y.normal.dot(dir)))
+                .map(|f| f.normal)
+        };
+        let impulse_face = match (closest(&flat_b, &n), closest(&flat_a, &-n)) {
+            (Some(m), _) => (false, pose_b.inverse_transform_vector(&m)),
+            (None, Some(m)) => (true, pose_a.inverse_transform_vector(&m)),
+            (None, None) => return None,
+        };
         let depth = PATCH_DEPTH * self.traj.dynamics[a].reach;
         let band = 2.0 * depth;
         // A corner takes part when it is a vertex lying on the other
@@ -1027,7 +1037,7 @@ impl Sim<'_> {
                 });
             }
         }
-        (!corners.is_empty()).then_some((corners, depth))
+        (!corners.is_empty()).then_some((corners, depth, impulse_face))
     }
 
     /// Refuse a pair that chatters: many impacts in a tiny span of time.

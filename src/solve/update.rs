@@ -163,8 +163,31 @@ pub fn kkt(
     let cm = c * DMatrix::from_diagonal(&minv); // C M⁻¹
     let a = &cm * c.transpose();
     let b = r + &cm * d;
-    let fa = faer::Mat::<f64>::from_fn(k, k, |i, j| a[(i, j)]);
-    let (lambda, condition) = match fa.self_adjoint_eigen(faer::Side::Lower) {
+    // Rows are equilibrated (each scaled to unit norm in the M⁻¹ metric)
+    // before the rank-revealing solve: otherwise a row whose derivatives
+    // are 1e7 times larger (the spin after a chain of bounces, beside the
+    // spin about the vertical) sets the rank threshold and the small but
+    // well-determined row is dropped as rank-deficient. The minimum-norm
+    // step of a consistent system does not change. Rows far below the
+    // largest (1e-10 of it: round-off, such as the height of a ball at its
+    // own bounce) are not blown up to unit size.
+    let norms: Vec<f64> = (0..k).map(|i| a[(i, i)].max(0.0).sqrt()).collect();
+    let largest = norms.iter().cloned().fold(0.0, f64::max);
+    let w: Vec<f64> = norms
+        .iter()
+        .map(|&n| {
+            let n = n.max(1e-10 * largest);
+            if n.is_finite() && n > 0.0 {
+                1.0 / n
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let condition = unscaled_condition(&a);
+    let fa = faer::Mat::<f64>::from_fn(k, k, |i, j| w[i] * a[(i, j)] * w[j]);
+    let b = DVector::from_iterator(k, (0..k).map(|i| w[i] * b[i]));
+    let lambda = match fa.self_adjoint_eigen(faer::Side::Lower) {
         Ok(evd) => {
             let s = evd.S().column_vector();
             let u = evd.U();
@@ -175,29 +198,13 @@ pub fn kkt(
                 if s[i] > cut {
                     let coef: f64 = (0..k).map(|j| u[(j, i)] * b[j]).sum::<f64>() / s[i];
                     for j in 0..k {
-                        lambda[j] += coef * u[(j, i)];
+                        lambda[j] += coef * u[(j, i)] * w[j];
                     }
                 }
             }
-            // The condition of the whole system, dropped directions
-            // included: that is what tells the user the constraints are
-            // (nearly) dependent or the horizon chaotic.
-            // Eigenvalues below round-off (or slightly negative from it)
-            // count as ε·max, so a singular system reports ~1/ε.
-            let min_all = (0..k)
-                .map(|i| s[i])
-                .fold(f64::INFINITY, f64::min)
-                .max(max * f64::EPSILON);
-            (
-                lambda,
-                if max > 0.0 {
-                    max / min_all
-                } else {
-                    f64::INFINITY
-                },
-            )
+            lambda
         }
-        Err(_) => (DVector::zeros(k), f64::INFINITY),
+        Err(_) => DVector::zeros(k),
     };
     let du = DVector::from_iterator(
         scales.len(),
@@ -208,6 +215,32 @@ pub fn kkt(
     );
     let unmet = (c * &du - r).norm();
     (du, condition, unmet)
+}
+
+/// The condition number of `A = C M⁻¹ Cᵀ` over all its directions, dropped
+/// ones included: that is what tells the user the constraints are (nearly)
+/// dependent or the horizon chaotic. Eigenvalues below round-off (or
+/// slightly negative from it) count as ε·max, so a singular system reports
+/// ~1/ε; `∞` when `A` is zero or the decomposition fails.
+fn unscaled_condition(a: &DMatrix<f64>) -> f64 {
+    let k = a.nrows();
+    let fa = faer::Mat::<f64>::from_fn(k, k, |i, j| a[(i, j)]);
+    match fa.self_adjoint_eigen(faer::Side::Lower) {
+        Ok(evd) => {
+            let s = evd.S().column_vector();
+            let max = (0..k).map(|i| s[i].abs()).fold(0.0, f64::max);
+            let min_all = (0..k)
+                .map(|i| s[i])
+                .fold(f64::INFINITY, f64::min)
+                .max(max * f64::EPSILON);
+            if max > 0.0 {
+                max / min_all
+            } else {
+                f64::INFINITY
+            }
+        }
+        Err(_) => f64::INFINITY,
+    }
 }
 
 /// [`kkt`] within the controls' bounds: controls that the step would push
