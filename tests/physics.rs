@@ -551,3 +551,31 @@ fn regression_a_normal_tilted_away_from_the_approach_hung_the_simulation() {
     let tr = simulate(&s, &Controls::new(&s), &SimOptions::default()).expect("bounces");
     assert!(tr.events[0].separation > 0.0);
 }
+
+/// The solver may step an initial position into an obstacle (a scene file
+/// may not: it is refused at load); such a body then fell through the
+/// floor in a trial, which the solver took for a motion (a scissors edit
+/// ended 2 m under the floor). The run now refuses to start.
+#[test]
+fn regression_a_body_started_inside_the_floor_fell_through_it() {
+    let mut s = testkit::scene(1.0);
+    let b = body(
+        "ball",
+        Geometry::sphere(0.1).unwrap(),
+        Vec3::new(0.0, 0.0, -0.5),
+    );
+    s.bodies.push(b);
+    s.obstacles.push(ground());
+    let err = simulate(&s, &Controls::new(&s), &SimOptions::default()).expect_err("refused");
+    assert!(
+        matches!(err, nudge::sim::SimError::StartsInside { .. }),
+        "{err}"
+    );
+    assert!(
+        err.to_string().contains("\"ball\" starts") && err.to_string().contains("\"ground\""),
+        "{err}"
+    );
+    // Touching (within 1e-9 m) is fine.
+    s.bodies[0].position.z = 0.1;
+    assert!(simulate(&s, &Controls::new(&s), &SimOptions::default()).is_ok());
+}

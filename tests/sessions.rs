@@ -257,28 +257,30 @@ fn plank_hits_the_pyramid_and_lands_flat_and_centred_on_the_supports() {
     assert_plausible("plank", r);
 }
 
-/// Paper Figure 5c, first half: with only the floor's normal and
-/// restitution controlled, the mug is upright (within 5°) at its 4th
-/// collision. The session saves the edited scene; re-simulating it gives
-/// the orientation just before that collision.
+/// Paper Figure 5c: with only the floor's normal and restitution
+/// controlled, the mug is upright (within 5°) at its 4th collision, held
+/// there by an upright constraint that floats with that collision. The
+/// session saves the edited scene; re-simulating it gives the orientation
+/// just before that collision. (The paper also stops the mug's spin after
+/// that bounce; see the README's "Not yet" for why nudge does not reach it.)
 #[test]
 fn mug_is_upright_at_its_fourth_bounce() {
     let s = run("mug");
     let r = &s.report;
     assert_constraints_hold("mug", r);
     assert_plausible("mug", r);
-    let floats: Vec<&Value> = r["constraints"]
+    let held: Vec<&Value> = r["constraints"]
         .as_array()
         .expect("constraints")
         .iter()
-        .filter(|c| c["kind"] == "floating")
+        .filter(|c| c["kind"] == "upright")
         .collect();
     assert_eq!(
-        floats.len(),
+        held.len(),
         1,
-        "one floating constraint at the 4th collision: {floats:?}"
+        "one upright constraint at the 4th collision: {held:?}"
     );
-    assert_eq!(floats[0]["at"], "hit#3 pre");
+    assert_eq!(held[0]["at"], "hit#3 pre");
     let scene =
         nudge::scene::load(&s.dir.join("mug-edited.toml")).unwrap_or_else(|e| panic!("{e}"));
     let controls = Controls::new(&scene);

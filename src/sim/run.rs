@@ -116,6 +116,16 @@ pub enum SimError {
         "the controlled normal of event {event} (t = {t:.6} s) is tilted so far that the colliding bodies would separate along it and pass through each other; reduce event{event}.normal or fix that event's controls"
     )]
     NormalAwayFromApproach { event: usize, t: f64 },
+    /// A body starts inside an obstacle or a body it collides with (the
+    /// solver may step an initial position there; a scene file may not).
+    #[error(
+        "body \"{body}\" starts {depth:.1e} m inside \"{other}\"; bodies must not overlap what they collide with at t = 0"
+    )]
+    StartsInside {
+        body: String,
+        other: String,
+        depth: f64,
+    },
     /// The adaptive integrator could not meet the tolerance.
     #[error("the adaptive step fell below 1e-12 s at t = {t:.6} s; loosen the tolerance")]
     StepTooSmall { t: f64 },
@@ -264,6 +274,9 @@ pub fn simulate(
             });
         }
     }
+    if scene.effects.collisions {
+        starts_apart(scene)?;
+    }
     let obstacle_boxes = scene
         .obstacles
         .iter()
@@ -305,6 +318,39 @@ pub fn simulate(
     };
     sim.run()?;
     Ok(sim.traj)
+}
+
+/// Penetration allowed at t = 0 (m), as when a scene is loaded.
+const START_OVERLAP: f64 = 1e-9;
+
+/// Refuse initial states in which a body overlaps an obstacle or a body it
+/// collides with.
+fn starts_apart(scene: &Scene) -> Result<(), SimError> {
+    let pose = |b: &crate::scene::Body| {
+        Isometry3::from_parts(Translation3::from(b.position), exp_so3(&b.orientation))
+    };
+    let check =
+        |i: usize, geometry: &crate::geometry::Geometry, at: &Isometry3<f64>, other: &str| {
+            let b = &scene.bodies[i];
+            match crate::geometry::contact(&b.geometry, &pose(b), geometry, at, 0.0) {
+                Some(c) if c.distance < -START_OVERLAP => Err(SimError::StartsInside {
+                    body: b.name.clone(),
+                    other: other.to_string(),
+                    depth: -c.distance,
+                }),
+                _ => Ok(()),
+            }
+        };
+    for i in 0..scene.bodies.len() {
+        for o in &scene.obstacles {
+            check(i, &o.geometry, &o.pose, &o.name)?;
+        }
+    }
+    for &[i, j] in &scene.pairs {
+        let b = &scene.bodies[j];
+        check(i, &b.geometry, &pose(b), &b.name)?;
+    }
+    Ok(())
 }
 
 impl Sim<'_> {
