@@ -85,8 +85,9 @@ fn real_main() -> Result<()> {
                 None => {
                     let scene = scene::load_str(scene::DEFAULT_SCENE, "<built-in eggs>")
                         .map_err(|e| anyhow::anyhow!("{e}"))?;
-                    Editor::new(scene, Some(PathBuf::from("eggs.toml")))
-                        .map_err(|e| anyhow::anyhow!("{e}"))?
+                    // No file behind it: `:w` asks for a name rather than
+                    // overwrite an eggs.toml that happens to be here.
+                    Editor::new(scene, None).map_err(|e| anyhow::anyhow!("{e}"))?
                 }
             };
             nudge::tui::run(&mut editor).context("terminal")?;

@@ -74,6 +74,8 @@ pub struct Status {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct View {
     pub scene: String,
+    /// The scene's one-line description of the motion and its edit.
+    pub notes: String,
     pub duration: f64,
     /// Current (selected) time, s.
     pub time: f64,

@@ -512,3 +512,48 @@ fn an_upright_constraint_brings_the_z_axis_vertical() {
     let tilt = (st.q * Vec3::z()).z.clamp(-1.0, 1.0).acos();
     assert!(tilt < 1e-6, "tilt {tilt:.2e} rad");
 }
+
+/// After undo and redo the status showed the undone accuracy setting, the
+/// Δ column kept the sign of the undo, and undoing every edit still left
+/// the scene marked unsaved.
+#[test]
+fn regression_undo_and_redo_left_stale_status_delta_and_dirty_flag() {
+    let mut e = Editor::new(ball_scene(), None).unwrap();
+    let label = e.view().status.accuracy.clone();
+    let mut acc = e.scene().accuracy;
+    acc.method = nudge::scene::Method::Rk4 { step: 2e-3 };
+    e.apply(Edit::SetAccuracy(acc)).unwrap();
+    assert_ne!(e.view().status.accuracy, label);
+    e.apply(Edit::Undo).unwrap();
+    assert_eq!(e.view().status.accuracy, label, "undo restores the label");
+    assert!(!e.dirty(), "back at the opened state");
+    e.apply(Edit::SelectTime(0.3)).unwrap();
+    e.apply(Edit::Nudge {
+        quantity: StateQuantity::Position,
+        delta: Vec3::new(0.05, 0.0, 0.0),
+    })
+    .unwrap();
+    let delta = |e: &Editor| {
+        e.view()
+            .controls
+            .iter()
+            .find(|c| c.name == "ball.velocity.x")
+            .map(|c| c.delta)
+            .unwrap_or(0.0)
+    };
+    let after_nudge = delta(&e);
+    assert!(after_nudge > 0.0, "the nudge raised v.x");
+    e.apply(Edit::Undo).unwrap();
+    assert!(delta(&e) < 0.0 && !e.dirty());
+    e.apply(Edit::Redo).unwrap();
+    assert!(
+        (delta(&e) - after_nudge).abs() < 1e-12,
+        "redo shows the nudge's Δ"
+    );
+    assert!(e.dirty());
+    // Refused: a step that would take ten million steps.
+    let mut tiny = e.scene().accuracy;
+    tiny.method = nudge::scene::Method::Rk4 { step: 1e-9 };
+    let err = e.apply(Edit::SetAccuracy(tiny)).expect_err("refused");
+    assert!(err.to_string().contains("at least"), "{err}");
+}

@@ -62,3 +62,35 @@ fn the_editor_runs_in_a_pseudo_terminal_and_quits_cleanly() {
         "restored after the prompt"
     );
 }
+
+/// Killed with SIGTERM (or SIGHUP, when an SSH connection drops) the
+/// editor used to die in raw mode on the alternate screen, leaving the
+/// terminal unusable. It now restores the terminal and exits with an error.
+#[test]
+fn regression_a_terminated_editor_left_the_terminal_in_raw_mode() {
+    let bin = env!("CARGO_BIN_EXE_nudge");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bounce.toml");
+    let child = Command::new("script")
+        .args([
+            "-qfec",
+            &format!("stty cols 80 rows 24; {bin} {scene} & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid; echo \"exit=$?\""),
+            "/dev/null",
+        ])
+        .env("TERM", "xterm")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn script");
+    let out = child.wait_with_output().expect("wait");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let entered = text
+        .find("\u{1b}[?1049h")
+        .expect("entered the alternate screen");
+    let left = text
+        .rfind("\u{1b}[?1049l")
+        .expect("left the alternate screen");
+    assert!(left > entered, "restored after drawing");
+    assert!(text.contains("terminated by a signal"), "said why: {text}");
+    assert!(!text.contains("exit=0"), "a non-zero exit status: {text}");
+}

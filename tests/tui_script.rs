@@ -77,6 +77,7 @@ impl FakeCore {
         };
         let view = View {
             scene: "toss".into(),
+            notes: String::new(),
             duration: 2.0,
             time: 0.6,
             bodies: vec!["ball".into(), "crate".into()],

@@ -6,7 +6,7 @@ use super::{Core, Edit, EditError, Expression, Outcome, Side};
 use crate::controls::Controls;
 use crate::math::{Vec3, exp_so3, log_so3};
 use crate::report::{self, ConstraintRow};
-use crate::scene::{self, Accuracy, ConstraintSpec, EventControl, Method, Scene, StateQuantity};
+use crate::scene::{self, ConstraintSpec, EventControl, Scene, StateQuantity};
 use crate::sim::{Party, SimOptions, StateSide, Trajectory, simulate};
 use crate::solve::{self, Anchor, Constraint, Diagnostic, Kind, UpdateOptions};
 use crate::view::{self, View};
@@ -27,6 +27,9 @@ const SETTLE_HALVINGS: usize = 8;
 struct Snapshot {
     scene: Scene,
     constraints: Vec<Constraint>,
+    /// The revision this state had: undoing back to the saved state makes
+    /// the editor clean again.
+    revision: u64,
 }
 
 /// The editor core.
@@ -42,6 +45,8 @@ pub struct Editor {
     redo: Vec<Snapshot>,
     revision: u64,
     saved_revision: u64,
+    /// Last revision number handed out (each change gets a fresh one).
+    revisions: u64,
     /// Change of every control entry made by the last edit.
     last_delta: Vec<f64>,
     status: view::Status,
@@ -128,6 +133,7 @@ impl Editor {
             redo: Vec::new(),
             revision: 0,
             saved_revision: 0,
+            revisions: 0,
             status: view::Status {
                 accuracy,
                 step: 1.0,
@@ -202,6 +208,7 @@ impl Editor {
         Snapshot {
             scene: self.scene.clone(),
             constraints: self.constraints.clone(),
+            revision: self.revision,
         }
     }
 
@@ -221,6 +228,8 @@ impl Editor {
     fn restore(&mut self, s: Snapshot) -> Result<(), EditError> {
         self.scene = s.scene;
         self.constraints = s.constraints;
+        self.revision = s.revision;
+        self.status.accuracy = self.scene.accuracy.label();
         self.rebuild()
     }
 
@@ -228,13 +237,18 @@ impl Editor {
     fn commit(&mut self, before: Snapshot, old_values: Vec<f64>) {
         self.undo.push(before);
         self.redo.clear();
-        self.revision += 1;
-        self.last_delta = (0..self.controls.entries.len())
-            .map(|i| {
-                self.controls.get(&self.scene, i) - old_values.get(i).copied().unwrap_or(f64::NAN)
-            })
+        self.revisions += 1;
+        self.revision = self.revisions;
+        self.last_delta = self.deltas(&old_values);
+    }
+
+    /// Change of every control entry since `old_values` (0 where either
+    /// is missing, as after a block was freed).
+    fn deltas(&self, old_values: &[f64]) -> Vec<f64> {
+        (0..self.controls.entries.len())
+            .map(|i| self.controls.get(&self.scene, i) - old_values.get(i).copied().unwrap_or(0.0))
             .map(|d| if d.is_finite() { d } else { 0.0 })
-            .collect();
+            .collect()
     }
 
     fn values(&self) -> Vec<f64> {
@@ -392,6 +406,15 @@ impl Editor {
         let mut all = self.constraints.clone();
         all.push(drag);
         let (moved, mut diags, _) = self.step(&all)?;
+        if self.constraints.is_empty() {
+            // Only the drag: nothing conflicts, the controls just cannot
+            // follow it all the way.
+            for d in &mut diags {
+                if let Diagnostic::Conflicting { residual } = *d {
+                    *d = Diagnostic::PartialDrag { residual };
+                }
+            }
+        }
         // The drag step satisfies the nails to first order only; a couple of
         // Newton corrections on the persistent constraints alone put them
         // back to tolerance (quadratic convergence), so nails hold.
@@ -700,7 +723,9 @@ impl Editor {
                 self.rebuild()?;
             }
             Edit::SetAccuracy(acc) => {
-                validate_accuracy(&acc)?;
+                if let Some((problem, fix)) = acc.problem(self.scene.duration) {
+                    return Err(invalid(format!("{problem}: {fix}")));
+                }
                 self.scene.accuracy = acc;
                 self.rebuild()?;
                 self.status.accuracy = acc.label();
@@ -718,13 +743,7 @@ impl Editor {
                     return Err(e);
                 }
                 self.redo.push(now);
-                self.revision += 1;
-                self.last_delta = (0..self.controls.entries.len())
-                    .map(|i| {
-                        self.controls.get(&self.scene, i)
-                            - old_values.get(i).copied().unwrap_or(0.0)
-                    })
-                    .collect();
+                self.last_delta = self.deltas(&old_values);
                 changed = false;
             }
             Edit::Redo => {
@@ -735,7 +754,7 @@ impl Editor {
                     return Err(e);
                 }
                 self.undo.push(now);
-                self.revision += 1;
+                self.last_delta = self.deltas(&old_values);
                 changed = false;
             }
         }
@@ -793,22 +812,6 @@ impl Editor {
             .map(|c| to_spec(&self.scene, c))
             .collect();
         s
-    }
-}
-
-fn validate_accuracy(acc: &Accuracy) -> Result<(), EditError> {
-    let ok = |v: f64| v.is_finite() && v > 0.0;
-    let good = match acc.method {
-        Method::Rk4 { step } => ok(step) && step <= 1.0,
-        Method::Adaptive { tol, max_step } => ok(tol) && tol < 1.0 && ok(max_step),
-    } && ok(acc.root_tol)
-        && acc.root_tol < 1e-3;
-    if good {
-        Ok(())
-    } else {
-        Err(invalid(format!(
-            "invalid accuracy {acc:?}: steps and tolerances must be finite and > 0 (step ≤ 1 s, tol < 1, root tol < 1e-3)"
-        )))
     }
 }
 
@@ -1007,6 +1010,7 @@ impl Core for Editor {
             .collect();
         View {
             scene: self.scene.name.clone(),
+            notes: self.scene.notes.clone(),
             duration: self.scene.duration,
             time: self.time,
             bodies: self.scene.bodies.iter().map(|b| b.name.clone()).collect(),
@@ -1032,7 +1036,12 @@ impl Core for Editor {
         let target = path
             .map(Path::to_path_buf)
             .or_else(|| self.path.clone())
-            .ok_or_else(|| EditError::Save("no file name: use :w PATH".into()))?;
+            .ok_or_else(|| {
+                EditError::Save(format!(
+                    "this scene has no file yet: give one, e.g. :w {}.toml",
+                    self.scene.name
+                ))
+            })?;
         scene::save(&self.scene_to_save(), &target)
             .map_err(|e| EditError::Save(format!("{}: {e}", target.display())))?;
         self.path = Some(target.clone());

@@ -92,6 +92,9 @@ pub enum Method {
 }
 
 /// Accuracy settings: the integrator and the collision root tolerance.
+/// Most fixed steps a motion may take (see [`Accuracy::problem`]).
+pub const MAX_RK4_STEPS: f64 = 1e6;
+
 /// Tighter settings are more accurate and cost more time (`nudge bench`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Accuracy {
@@ -115,6 +118,60 @@ impl Accuracy {
         match self.method {
             Method::Rk4 { step } => step,
             Method::Adaptive { max_step, .. } => max_step,
+        }
+    }
+
+    /// What is wrong with these settings for a motion of `duration`
+    /// seconds, and how to fix it; `None` if they are usable. A step so
+    /// small that the motion takes more than [`MAX_RK4_STEPS`] steps would
+    /// freeze the editor (and fill memory with steps); tolerances below
+    /// 1e-14 are below what f64 can resolve.
+    pub fn problem(&self, duration: f64) -> Option<(String, String)> {
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        let problem = |what: String, fix: &str| Some((what, fix.to_string()));
+        match self.method {
+            Method::Rk4 { step } if !positive(step) || step > 1.0 => {
+                return problem(
+                    format!("the RK4 step {step} s is not > 0 and at most 1 s"),
+                    "give a step such as 1e-3",
+                );
+            }
+            Method::Rk4 { step } if duration / step > MAX_RK4_STEPS => {
+                return problem(
+                    format!(
+                        "an RK4 step of {step:.1e} s takes {:.1e} steps over the {duration} s motion (at most {MAX_RK4_STEPS:.0e})",
+                        duration / step
+                    ),
+                    &format!(
+                        "use a step of at least {:.1e} s, or the adaptive integrator",
+                        duration / MAX_RK4_STEPS
+                    ),
+                );
+            }
+            Method::Adaptive { tol, .. } if !(1e-14..1.0).contains(&tol) => {
+                return problem(
+                    format!("the adaptive tolerance {tol:e} is not in [1e-14, 1)"),
+                    "give a tolerance such as 1e-9",
+                );
+            }
+            Method::Adaptive { max_step, .. } if !positive(max_step) => {
+                return problem(
+                    format!("the largest adaptive step {max_step} s is not > 0"),
+                    "give a largest step such as 0.05",
+                );
+            }
+            _ => {}
+        }
+        if positive(self.root_tol) && self.root_tol < 1e-3 {
+            None
+        } else {
+            problem(
+                format!(
+                    "the collision-time tolerance {:e} m is not > 0 and below 1e-3 m",
+                    self.root_tol
+                ),
+                "give a tolerance such as 1e-12",
+            )
         }
     }
 

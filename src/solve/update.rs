@@ -12,6 +12,9 @@ pub enum Diagnostic {
     /// The constraints cannot all hold: the step is the least-squares one
     /// and this much of `C δu = r` remains.
     Conflicting { residual: f64 },
+    /// A drag with no other constraint that the free controls can follow
+    /// only in part (the editor's reading of `Conflicting` then).
+    PartialDrag { residual: f64 },
     /// `C M⁻¹ Cᵀ` is ill-conditioned (condition number shown): directions
     /// below the rank threshold were dropped.
     IllConditioned { condition: f64 },
@@ -31,6 +34,10 @@ impl std::fmt::Display for Diagnostic {
             Diagnostic::Conflicting { residual } => write!(
                 f,
                 "conflicting constraints: least-squares step, residual {residual:.2e} remains"
+            ),
+            Diagnostic::PartialDrag { residual } => write!(
+                f,
+                "the free controls follow this drag only in part ({residual:.2e} short): free another block to follow it fully"
             ),
             Diagnostic::IllConditioned { condition } => write!(
                 f,

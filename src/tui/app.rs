@@ -145,6 +145,10 @@ impl App {
         app.remember(view.accuracy.method);
         app.root_tol = view.accuracy.root_tol;
         app.refit(view);
+        // What the scene is about, until the first key.
+        if !view.notes.trim().is_empty() {
+            app.say(Level::Info, view.notes.trim());
+        }
         app
     }
 
@@ -415,10 +419,14 @@ impl App {
             Action::HelpScroll(sense) => {
                 if let Input::Help { scroll } = &mut self.input {
                     let step = u16::try_from(count).unwrap_or(u16::MAX);
+                    // Clamped, so scrolling back after overshooting the end
+                    // moves at once.
+                    let max = super::widgets::HelpPopup::max_scroll(self.area);
                     *scroll = match sense {
                         Sense::Forward => scroll.saturating_add(step),
                         Sense::Back => scroll.saturating_sub(step),
-                    };
+                    }
+                    .min(max);
                 }
             }
             Action::Quit => {
@@ -589,13 +597,19 @@ impl App {
     ) {
         let view = core.view();
         let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
+        // The body's collisions, numbered as the constraints panel does.
         let nearest = view
             .events
             .iter()
             .filter(|e| e.t.is_finite() && (e.a == body || e.b == body))
-            .min_by(|x, y| (x.t - view.time).abs().total_cmp(&(y.t - view.time).abs()));
+            .enumerate()
+            .min_by(|x, y| {
+                (x.1.t - view.time)
+                    .abs()
+                    .total_cmp(&(y.1.t - view.time).abs())
+            });
         let side = side.unwrap_or(match nearest {
-            Some(e) if view.time < e.t => Side::Pre,
+            Some((_, e)) if view.time < e.t => Side::Pre,
             _ => Side::Post,
         });
         let names = quantity_names(&quantities);
@@ -612,7 +626,7 @@ impl App {
             .is_some()
         {
             let at = nearest
-                .map(|e| format!(" at hit#{}", e.index))
+                .map(|(k, e)| format!(" at its collision #{k} (event {})", e.index))
                 .unwrap_or_default();
             let side = if side == Side::Pre { "pre" } else { "post" };
             let hint = settle_hint(typed, &core.view());
@@ -802,11 +816,38 @@ impl App {
             Command::Delete(k) => self.delete_constraint(core, Some(k)),
             Command::EqualSpeed(other) => {
                 if let Some(other) = self.body_index(&view, &other) {
-                    self.apply(core, Edit::Expression(Expression::EqualSpeed { other }));
+                    let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
+                    if other == view.selected {
+                        self.say(
+                            Level::Error,
+                            format!("{body} always has its own speed: name another body"),
+                        );
+                    } else if self
+                        .apply(core, Edit::Expression(Expression::EqualSpeed { other }))
+                        .is_some()
+                    {
+                        let hint = settle_hint(true, &core.view());
+                        self.say_info(format!(
+                            "{body} as fast as {} at t={}{hint}",
+                            view.bodies[other],
+                            super::format::num(view.time, 8)
+                        ));
+                    }
                 }
             }
             Command::Spin(value) => {
-                self.apply(core, Edit::Expression(Expression::AngularSpeed { value }));
+                if self
+                    .apply(core, Edit::Expression(Expression::AngularSpeed { value }))
+                    .is_some()
+                {
+                    let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
+                    let hint = settle_hint(true, &core.view());
+                    self.say_info(format!(
+                        "{body} spinning at {} rad/s at t={}{hint}",
+                        super::format::num(value, 8),
+                        super::format::num(view.time, 8)
+                    ));
+                }
             }
             Command::Settle(ms) => self.settle(core, ms),
             Command::Undo => self.repeat(core, Edit::Undo, 1),

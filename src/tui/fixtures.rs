@@ -47,6 +47,7 @@ pub fn view() -> View {
     };
     View {
         scene: "bounce".into(),
+        notes: String::new(),
         duration: 2.0,
         time: 0.8,
         bodies: vec!["ball".into(), "box".into()],

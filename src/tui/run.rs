@@ -36,13 +36,50 @@ pub trait EventSource {
     fn read(&mut self) -> io::Result<Event>;
 }
 
-/// Events from the real terminal, through crossterm.
+/// Events from the real terminal, through crossterm. A termination signal
+/// (SIGTERM, SIGHUP when the SSH connection drops, SIGQUIT) ends the loop
+/// with an error, so the terminal is restored on the way out.
 #[derive(Debug, Default)]
-pub struct TerminalEvents;
+pub struct TerminalEvents {
+    signalled: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl TerminalEvents {
+    /// Events from the terminal, with the termination signals caught.
+    pub fn new() -> io::Result<TerminalEvents> {
+        let signalled = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        for signal in [
+            signal_hook::consts::SIGTERM,
+            signal_hook::consts::SIGHUP,
+            signal_hook::consts::SIGQUIT,
+        ] {
+            signal_hook::flag::register(signal, signalled.clone())?;
+        }
+        Ok(TerminalEvents { signalled })
+    }
+}
 
 impl EventSource for TerminalEvents {
     fn poll(&mut self, timeout: Duration) -> io::Result<bool> {
-        ratatui::crossterm::event::poll(timeout)
+        // Wait in short slices so a signal is noticed promptly.
+        let deadline = Instant::now() + timeout;
+        loop {
+            if self.signalled.load(std::sync::atomic::Ordering::Relaxed) {
+                return Err(io::Error::new(
+                    io::ErrorKind::Interrupted,
+                    "terminated by a signal",
+                ));
+            }
+            let slice = deadline
+                .saturating_duration_since(Instant::now())
+                .min(Duration::from_millis(50));
+            if ratatui::crossterm::event::poll(slice)? {
+                return Ok(true);
+            }
+            if Instant::now() >= deadline {
+                return Ok(false);
+            }
+        }
     }
 
     fn read(&mut self) -> io::Result<Event> {
@@ -73,7 +110,7 @@ pub fn run<C: Core>(core: &mut C) -> io::Result<()> {
             Rect::new(0, 0, size.width, size.height),
             Theme::from_env(),
         );
-        event_loop(&mut terminal, core, &mut app, &mut TerminalEvents)
+        event_loop(&mut terminal, core, &mut app, &mut TerminalEvents::new()?)
     })();
     ratatui::restore();
     result

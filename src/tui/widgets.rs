@@ -220,6 +220,39 @@ mod tests {
         }
     }
 
+    /// The status line used to run past 80 columns once the render time
+    /// was shown, cutting off the accuracy setting and a typed count.
+    #[test]
+    fn the_status_line_fits_and_keeps_the_count_when_narrow() {
+        let view = fixtures::view();
+        let mut app = fixtures::app(&view, 80, 24);
+        app.show_render_ms = true;
+        app.render_ms = Some(12.345);
+        app.count = Some(5);
+        for width in [80u16, 60] {
+            let mut buf = Buffer::empty(Rect::new(0, 0, width, 1));
+            (&status::StatusLine {
+                view: &view,
+                app: &app,
+            })
+                .render(buf.area, &mut buf);
+            let text = buffer_text(&buf);
+            assert!(text.trim_end().ends_with("5…"), "{width}: {text}");
+            assert!(
+                text.contains(" t=") && text.contains(" r="),
+                "{width}: {text}"
+            );
+        }
+        let mut wide = Buffer::empty(Rect::new(0, 0, 140, 1));
+        (&status::StatusLine {
+            view: &view,
+            app: &app,
+        })
+            .render(wide.area, &mut wide);
+        let text = buffer_text(&wide);
+        assert!(text.contains(" draw ") && text.contains("rk4"), "{text}");
+    }
+
     #[test]
     fn too_small_names_both_sizes() {
         let view = fixtures::view();

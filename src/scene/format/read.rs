@@ -105,6 +105,9 @@ pub(super) fn scene(src: &Source<'_>, doc: &Spanned<DeTable<'_>>) -> Result<Scen
         "give the speed in m/s below which a bounce ends at rest, 0 or greater, e.g. rest_speed = 0.001",
     )?;
     let accuracy = accuracy(&t)?;
+    if let Some((problem, fix)) = accuracy.problem(duration) {
+        return Err(t.src.error_at(&t.span_of("accuracy"), &problem, &fix));
+    }
     let scales = scales(&t)?;
 
     let mut bodies = Vec::new();

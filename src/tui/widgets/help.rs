@@ -65,6 +65,15 @@ impl HelpPopup {
     }
 }
 
+impl HelpPopup {
+    /// How far the popup can scroll on a screen of `area` (the last line at
+    /// the bottom).
+    pub fn max_scroll(area: Rect) -> u16 {
+        let visible = area.height.saturating_sub(4);
+        (HelpPopup::lines(Theme::PLAIN).len() as u16).saturating_sub(visible)
+    }
+}
+
 impl Widget for &HelpPopup {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let width = area.width.saturating_sub(4).min(100);

@@ -10,8 +10,9 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Widget};
 
 /// Control-vector rows: marker (`●` free, `○` fixed), name, value, Δ since
-/// the last edit, scale. Free rows come first; what does not fit is counted
-/// in a last `+N more` row.
+/// the last edit, scale. Free rows come first, the selected body's and the
+/// events' before the others; what does not fit is counted in a last
+/// `+N more` row.
 #[derive(Debug, Clone, Copy)]
 pub struct ControlsPanel<'a> {
     pub view: &'a View,
@@ -103,11 +104,17 @@ impl Widget for &ControlsPanel<'_> {
             pad_right_aligned("M", sw)
         );
         let mut lines = vec![Line::styled(header, theme.dim())];
-        let rows: Vec<&ControlRow> = controls
-            .iter()
-            .filter(|c| c.free)
-            .chain(controls.iter().filter(|c| !c.free))
-            .collect();
+        // Free rows first, and among them the selected body's and the
+        // events' (Tab brings another body's controls into view).
+        let selected = self
+            .view
+            .bodies
+            .get(self.view.selected)
+            .map(|b| format!("{b}."))
+            .unwrap_or_default();
+        let near = |c: &ControlRow| c.name.starts_with(&selected) || c.name.starts_with("event");
+        let mut rows: Vec<&ControlRow> = controls.iter().collect();
+        rows.sort_by_key(|c| (!c.free, !near(c)));
         let room = (inner.height as usize).saturating_sub(1);
         let shown = if rows.len() > room {
             room.saturating_sub(1)
@@ -247,6 +254,39 @@ mod tests {
     use crate::tui::fixtures;
     use crate::tui::widgets::buffer_text;
     use crate::view::ConstraintRow;
+
+    /// With more controls than rows, the selected body's free controls come
+    /// first: Tab to another body brings its controls into view.
+    #[test]
+    fn the_selected_bodys_free_controls_come_first() {
+        let mut view = fixtures::view();
+        let row = |name: &str, free: bool| ControlRow {
+            name: name.into(),
+            value: 1.0,
+            delta: 0.0,
+            free,
+            scale: 1.0,
+        };
+        view.bodies = vec!["a".into(), "b".into()];
+        view.controls = vec![
+            row("a.p.x", true),
+            row("a.p.y", true),
+            row("b.p.x", true),
+            row("b.m", false),
+        ];
+        for (selected, first) in [(0, "a.p.x"), (1, "b.p.x")] {
+            view.selected = selected;
+            let mut buf = Buffer::empty(Rect::new(0, 0, 28, 4));
+            (&ControlsPanel {
+                view: &view,
+                theme: Theme::PLAIN,
+            })
+                .render(buf.area, &mut buf);
+            let text = buffer_text(&buf);
+            let line = text.lines().nth(2).unwrap_or_default();
+            assert!(line.contains(first), "selected {selected}: {text}");
+        }
+    }
 
     #[test]
     fn names_shorten_block_first_then_body() {

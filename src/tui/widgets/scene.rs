@@ -103,6 +103,20 @@ impl Widget for SceneCanvas<'_> {
                 dots,
             });
         }
+        // The selected body's name beside its outline (top right), in the
+        // selection style: findable without colour too.
+        let label = selected
+            .iter()
+            .flat_map(|&(x1, y1, x2, y2)| [(x1, y1), (x2, y2)])
+            .fold(None, |acc: Option<(f64, f64)>, (x, y)| {
+                Some(acc.map_or((x, y), |(ax, ay)| (ax.max(x), ay.max(y))))
+            });
+        let name = self
+            .view
+            .bodies
+            .get(self.view.selected)
+            .cloned()
+            .unwrap_or_default();
         let events: Vec<((f64, f64), bool)> = self
             .view
             .events
@@ -130,6 +144,15 @@ impl Widget for SceneCanvas<'_> {
                 draw_all(ctx, &others, theme.other_body());
                 ctx.layer();
                 draw_all(ctx, &selected, theme.selected_body());
+                if let Some((x, y)) = label {
+                    // One cell right of the outline, so it does not cover it.
+                    let cell = (x_bounds[1] - x_bounds[0]) / f64::from(inner.width.max(1));
+                    ctx.print(
+                        x + cell,
+                        y,
+                        Span::styled(format!(" {name}"), theme.selected()),
+                    );
+                }
                 for &((x, y), grazing) in &events {
                     ctx.print(
                         x,

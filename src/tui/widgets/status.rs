@@ -36,38 +36,77 @@ impl Widget for &StatusLine<'_> {
         let theme = app.theme;
         let dim = theme.dim();
         let body = v.bodies.get(v.selected).map_or("—", String::as_str);
-        let mut spans = vec![
-            Span::styled(
-                format!(" {} ", mode_label(app.mode)),
-                theme.selected().add_modifier(Modifier::BOLD),
+        // Segments in display order with a priority (0 = always shown):
+        // on a narrow screen the least important go first, the render time
+        // before the accuracy setting before the nudge step.
+        let field =
+            |label: &'static str, value: String| vec![Span::styled(label, dim), Span::raw(value)];
+        let mut segments: Vec<(u8, Vec<Span>)> = vec![
+            (
+                0,
+                vec![Span::styled(
+                    format!(" {} ", mode_label(app.mode)),
+                    theme.selected().add_modifier(Modifier::BOLD),
+                )],
             ),
-            Span::styled(format!(" {}", truncate(body, 12)), theme.title()),
-            Span::styled(" t=", dim),
-            Span::raw(num(v.time, 7)),
-            Span::styled(" upd ", dim),
-            Span::raw(format!("{}ms", ms(v.status.update_ms))),
+            (
+                0,
+                vec![Span::styled(
+                    format!(" {}", truncate(body, 12)),
+                    theme.title(),
+                )],
+            ),
+            (0, field(" t=", num(v.time, 7))),
+            (1, field(" upd ", format!("{}ms", ms(v.status.update_ms)))),
         ];
         if let (true, Some(r)) = (app.show_render_ms, app.render_ms) {
-            spans.push(Span::styled(" draw ", dim));
-            spans.push(Span::raw(format!("{}ms", ms(r))));
+            segments.push((6, field(" draw ", format!("{}ms", ms(r)))));
         }
-        spans.extend([
-            Span::styled(" r=", dim),
-            Span::raw(num(v.status.residual, 7)),
-            Span::styled(" ε=", dim),
-            Span::raw(num(v.status.step, 5)),
-            Span::styled(" δ=", dim),
-            Span::raw(num(app.step(), 6)),
-            Span::styled(" pop ", dim),
-            Span::raw(v.status.pops.to_string()),
-            Span::styled(" blk ", dim),
-            Span::raw(v.status.blocks.to_string()),
-            Span::raw(format!(" {}", scrub(&v.status.accuracy))),
+        segments.extend([
+            (1, field(" r=", num(v.status.residual, 7))),
+            (3, field(" ε=", num(v.status.step, 5))),
+            (4, field(" δ=", num(app.step(), 6))),
+            (
+                2,
+                vec![
+                    Span::styled(" pop ", dim),
+                    Span::raw(v.status.pops.to_string()),
+                    Span::styled(" blk ", dim),
+                    Span::raw(v.status.blocks.to_string()),
+                ],
+            ),
+            (
+                5,
+                vec![Span::raw(format!(" {}", scrub(&v.status.accuracy)))],
+            ),
         ]);
         if let Some(n) = app.count {
-            spans.push(Span::styled(format!(" {n}…"), theme.changed()));
+            segments.push((0, vec![Span::styled(format!(" {n}…"), theme.changed())]));
         }
-        Line::from(spans).render(area, buf);
+        let width = |segs: &[(u8, Vec<Span>)]| -> usize {
+            segs.iter()
+                .flat_map(|(_, s)| s.iter())
+                .map(|s| s.content.chars().count())
+                .sum()
+        };
+        while width(&segments) > area.width as usize {
+            let Some((k, _)) = segments
+                .iter()
+                .enumerate()
+                .filter(|(_, (p, _))| *p > 0)
+                .max_by_key(|(k, (p, _))| (*p, *k))
+            else {
+                break;
+            };
+            segments.remove(k);
+        }
+        Line::from(
+            segments
+                .into_iter()
+                .flat_map(|(_, s)| s)
+                .collect::<Vec<_>>(),
+        )
+        .render(area, buf);
     }
 }
 
