@@ -170,7 +170,8 @@ struct Sim<'a> {
     traj: Trajectory,
     cursors: Vec<Option<Cursor>>,
     pairs: Vec<Pair>,
-    allowed: std::collections::HashSet<(usize, usize)>,
+    /// The index in `pairs` of each listed body–body pair `(a, b)`.
+    body_pairs: std::collections::HashMap<(usize, usize), usize>,
     obstacle_boxes: Vec<Option<(Vec3, Vec3)>>,
     tol: Tolerances,
 }
@@ -308,7 +309,14 @@ pub fn simulate(
         opts: *opts,
         traj,
         cursors,
-        allowed: scene.pairs.iter().map(|p| (p[0], p[1])).collect(),
+        body_pairs: pairs
+            .iter()
+            .enumerate()
+            .filter_map(|(k, p)| match p.b {
+                Party::Body(j) => Some(((p.a, j), k)),
+                Party::Obstacle(_) => None,
+            })
+            .collect(),
         pairs,
         obstacle_boxes,
         tol: Tolerances {
@@ -576,32 +584,45 @@ impl Sim<'_> {
         // Sweep and prune on x for body–body pairs (not quadratic in N).
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
-        let mut close = std::collections::HashSet::new();
+        let mut close: Vec<usize> = Vec::new();
         let mut active: Vec<usize> = Vec::new();
         for &i in &order {
             active.retain(|&j| boxes[j].1.x >= boxes[i].0.x);
             for &j in &active {
                 let key = (i.min(j), i.max(j));
-                if self.allowed.contains(&key) && overlap(&boxes[i], &boxes[j]) {
-                    close.insert(key);
+                if let Some(&k) = self.body_pairs.get(&key)
+                    && overlap(&boxes[i], &boxes[j])
+                {
+                    close.push(k);
                 }
             }
             active.push(i);
         }
-        let mut best: Option<(f64, usize, crate::geometry::Contact)> = None;
-        for (k, p) in self.pairs.iter().enumerate() {
-            let candidate = match p.b {
+        // Candidates: body–obstacle pairs whose boxes overlap, and the
+        // body–body pairs the sweep kept (never all N² pairs), in pair order.
+        // (Body–obstacle pairs come first in `pairs`.)
+        let with_obstacles = self
+            .pairs
+            .iter()
+            .take_while(|p| matches!(p.b, Party::Obstacle(_)))
+            .count();
+        let mut candidates: Vec<usize> = (0..with_obstacles)
+            .filter(|&k| match self.pairs[k].b {
                 Party::Obstacle(o) => {
-                    !self.traj.supported_by(p.a, t0, o)
+                    let a = self.pairs[k].a;
+                    !self.traj.supported_by(a, t0, o)
                         && self.obstacle_boxes[o]
                             .as_ref()
-                            .is_none_or(|b| overlap(&boxes[p.a], b))
+                            .is_none_or(|b| overlap(&boxes[a], b))
                 }
-                Party::Body(j) => close.contains(&(p.a, j)),
-            };
-            if !candidate {
-                continue;
-            }
+                Party::Body(_) => false,
+            })
+            .collect();
+        candidates.extend(close);
+        candidates.sort_unstable();
+        let mut best: Option<(f64, usize, crate::geometry::Contact)> = None;
+        for k in candidates {
+            let p = &self.pairs[k];
             let limit = best.as_ref().map_or(t1, |b| b.0);
             let found = world.find_impact(p, t0, limit, &self.tol).map_err(|t| {
                 SimError::EventSearchStalled {
