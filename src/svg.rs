@@ -33,10 +33,12 @@ fn panel(
     title: &str,
     (h, vax): (usize, usize),
     (x0, lo, scale, height): (f64, [f64; 2], f64, f64),
+    (width, centre): (f64, f64),
+    clip: &str,
 ) {
     let map = |p: &Vec3| {
         (
-            x0 + 20.0 + (p[h] - lo[0]) * scale,
+            x0 + 20.0 + centre + (p[h] - lo[0]) * scale,
             height - 40.0 - (p[vax] - lo[1]) * scale,
         )
     };
@@ -44,6 +46,15 @@ fn panel(
         out,
         r##"<text x="{:.1}" y="20" font-family="monospace" font-size="14">{title}</text>"##,
         x0 + 20.0
+    );
+    // Obstacles (a ground plane) reach beyond the paths: keep each panel's
+    // drawing inside it.
+    let _ = writeln!(
+        out,
+        r##"<clipPath id="{clip}"><rect x="{:.1}" y="28" width="{:.1}" height="{:.1}"/></clipPath><g clip-path="url(#{clip})">"##,
+        x0 + 5.0,
+        width - 10.0,
+        height - 33.0
     );
     for (a, b) in &view.obstacles {
         let (ax, ay) = map(a);
@@ -79,6 +90,7 @@ fn panel(
             );
         }
     }
+    out.push_str("</g>\n");
 }
 
 /// An SVG with the `before` and `after` motions side by side.
@@ -107,6 +119,8 @@ pub fn before_after(before: &View, after: &View) -> String {
     }
     let (w, height) = (420.0, 340.0);
     let scale = ((w - 40.0) / (hi[0] - lo[0])).min((height - 70.0) / (hi[1] - lo[1]));
+    // A tall, narrow motion (the mug) sits in the middle of its panel.
+    let centre = 0.5 * (w - 40.0 - (hi[0] - lo[0]) * scale);
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -121,6 +135,8 @@ pub fn before_after(before: &View, after: &View) -> String {
         &format!("{} — before", before.scene),
         (h, v),
         (0.0, lo, scale, height),
+        (w, centre),
+        "before",
     );
     panel(
         &mut out,
@@ -128,7 +144,49 @@ pub fn before_after(before: &View, after: &View) -> String {
         &format!("{} — after", after.scene),
         (h, v),
         (w, lo, scale, height),
+        (w, centre),
+        "after",
     );
     out.push_str("</svg>\n");
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::edit::{Core, Editor};
+
+    #[test]
+    fn panels_are_clipped_and_every_coordinate_is_finite() {
+        let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mug.toml"));
+        let editor = Editor::open(path).unwrap();
+        let view = editor.view();
+        let svg = before_after(&view, &view);
+        assert!(svg.starts_with("<svg ") && svg.ends_with("</svg>\n"));
+        // One clipped group per panel, each closed.
+        assert_eq!(svg.matches("<clipPath ").count(), 2);
+        assert_eq!(svg.matches("<g clip-path=").count(), 2);
+        assert_eq!(svg.matches("</g>").count(), 2);
+        assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
+        // The mug falls nearly straight down: its paths sit in the middle of
+        // the left panel (x within 20..400), not against its left edge.
+        let xs: Vec<f64> = svg
+            .lines()
+            .filter(|l| l.starts_with("<polyline"))
+            .take(view.paths.len())
+            .flat_map(|l| {
+                let pts = l
+                    .split("points=\"")
+                    .nth(1)
+                    .unwrap()
+                    .trim_end_matches("\"/>");
+                pts.split(' ')
+                    .map(|p| p.split(',').next().unwrap().parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let lo = xs.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        assert!(lo > 150.0 && hi < 270.0, "paths span x {lo:.1}..{hi:.1}");
+    }
 }
