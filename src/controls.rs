@@ -115,7 +115,7 @@ impl Controls {
                             event: c.event,
                             axis,
                         },
-                        free: true,
+                        free: !c.fixed,
                         scale: scene.scales.normal,
                         desired: Some(0.0),
                         bounds: (-normal_bound(), normal_bound()),
@@ -126,7 +126,7 @@ impl Controls {
                 entries.push(Entry {
                     name: format!("event{}.restitution", c.event),
                     target: Target::Restitution { event: c.event },
-                    free: true,
+                    free: !c.fixed,
                     scale: scene.scales.restitution,
                     desired: None,
                     bounds: (0.0, 1.0),

@@ -88,6 +88,12 @@ pub enum Edit {
     },
     /// Add normal and/or restitution controls at the event nearest the current time.
     AddEventControls { normal: bool, restitution: bool },
+    /// Free or fix the controls of one event (`None`: the selected body's
+    /// collision nearest the current time); `free: None` toggles them.
+    SetEventControls {
+        event: Option<usize>,
+        free: Option<bool>,
+    },
     /// Change the scale (diagonal of M) of a kind of control: a block name,
     /// `normal` or `restitution`.
     SetScale { kind: String, value: f64 },

@@ -557,3 +557,81 @@ fn regression_undo_and_redo_left_stale_status_delta_and_dirty_flag() {
     let err = e.apply(Edit::SetAccuracy(tiny)).expect_err("refused");
     assert!(err.to_string().contains("at least"), "{err}");
 }
+
+/// Event controls can be fixed and freed at run time, like body blocks: a
+/// fixed event's normal and restitution keep their values while a drag
+/// moves the other controls, and freeing them lets the solver use them
+/// again.
+#[test]
+fn fixed_event_controls_keep_their_values_through_a_drag() {
+    let mut scene = ball_scene();
+    scene.bodies[0].free.clear();
+    let mut e = Editor::new(scene, None).unwrap();
+    let bounce = e.trajectory().events[0].t;
+    // No controls at the bounce yet: a typed error that says how to add them.
+    e.apply(Edit::SelectTime(bounce)).unwrap();
+    let err = e
+        .apply(Edit::SetEventControls {
+            event: None,
+            free: Some(false),
+        })
+        .expect_err("no controls to fix");
+    assert!(err.to_string().contains("press e"), "{err}");
+    e.apply(Edit::AddEventControls {
+        normal: true,
+        restitution: true,
+    })
+    .unwrap();
+    let event_values = |e: &Editor| -> Vec<u64> {
+        let c = e.scene().event_controls[0];
+        let [a, b] = c.normal.unwrap();
+        [a, b, c.restitution.unwrap()]
+            .iter()
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let drag = |e: &mut Editor| {
+        e.apply(Edit::SelectTime(bounce + 0.3)).unwrap();
+        e.apply(Edit::Nudge {
+            quantity: StateQuantity::Position,
+            delta: Vec3::new(0.02, 0.0, 0.01),
+        })
+    };
+    // Free: the drag after the bounce moves the surface.
+    let v0 = event_values(&e);
+    drag(&mut e).unwrap();
+    assert_ne!(event_values(&e), v0, "the free surface controls moved");
+    // Fixed (toggled): nothing else is free, so the drag is refused and
+    // says which block to free; the surface keeps its values bit for bit.
+    e.apply(Edit::SelectTime(bounce)).unwrap();
+    e.apply(Edit::SetEventControls {
+        event: None,
+        free: None,
+    })
+    .unwrap();
+    assert!(e.scene().event_controls[0].fixed);
+    assert!(e.controls().free.is_empty());
+    let v1 = event_values(&e);
+    let _ = drag(&mut e);
+    assert_eq!(event_values(&e), v1);
+    // With the ball's velocity freed, the drag moves the velocity only.
+    e.apply(Edit::SetBlock {
+        body: 0,
+        block: Block::Velocity,
+        free: true,
+    })
+    .unwrap();
+    let vel0 = e.scene().bodies[0].velocity;
+    drag(&mut e).unwrap();
+    assert_eq!(event_values(&e), v1);
+    assert_ne!(e.scene().bodies[0].velocity, vel0);
+    // Freed by its global index: the surface moves again.
+    e.apply(Edit::SetEventControls {
+        event: Some(0),
+        free: Some(true),
+    })
+    .unwrap();
+    assert!(!e.scene().event_controls[0].fixed);
+    drag(&mut e).unwrap();
+    assert_ne!(event_values(&e), v1);
+}

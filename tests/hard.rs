@@ -1812,6 +1812,7 @@ mod random_edits {
             1 => (block(), any::<bool>()).prop_map(|(block, free)| Edit::SetBlock { body: 0, block, free }),
             1 => (any::<bool>(), any::<bool>()).prop_map(|(normal, restitution)| Edit::AddEventControls { normal, restitution }),
             1 => (0usize..4).prop_map(Edit::SelectEvent),
+            1 => proptest::option::of(any::<bool>()).prop_map(|free| Edit::SetEventControls { event: None, free }),
             2 => Just(Edit::Undo),
             1 => Just(Edit::Redo),
         ]

@@ -387,6 +387,7 @@ fn particle_on_a_parabola_with_surface_controls() {
         event: 0,
         normal: Some([0.05, -0.02]),
         restitution: Some(0.9),
+        fixed: false,
     });
     check(&s, &[0.9, 1.2], 1e-6);
 }

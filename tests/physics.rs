@@ -536,6 +536,7 @@ fn regression_a_normal_tilted_away_from_the_approach_hung_the_simulation() {
         event: 0,
         normal: Some([0.0, -1.0]),
         restitution: None,
+        fixed: false,
     });
     let err = simulate(&s, &Controls::new(&s), &SimOptions::default()).expect_err("refused");
     assert!(

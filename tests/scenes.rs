@@ -286,6 +286,7 @@ fn edited_scenes_round_trip_too() {
         event: 3,
         normal: Some([0.01, -1.0 / 7.0]),
         restitution: Some(0.55),
+        fixed: true,
     });
     scene.constraints.push(nudge::scene::ConstraintSpec {
         kind: "nail".into(),

@@ -228,6 +228,7 @@ pub(crate) fn drag_time(case: &Case, default: &Trajectory, t_eval: f64) -> f64 {
         .scene
         .event_controls
         .iter()
+        .filter(|c| !c.fixed)
         .filter_map(|c| default.events.get(c.event).map(|e| e.t))
         .filter(|&t| t < t_eval)
         .fold(0.0, f64::max);

@@ -683,6 +683,7 @@ impl Editor {
                             event: global,
                             normal: None,
                             restitution: None,
+                            fixed: false,
                         });
                         self.scene
                             .event_controls
@@ -696,6 +697,36 @@ impl Editor {
                 if restitution && c.restitution.is_none() {
                     c.restitution = Some(e_used);
                 }
+                self.rebuild()?;
+            }
+            Edit::SetEventControls { event, free } => {
+                let event = match event {
+                    Some(k) => k,
+                    None => {
+                        self.nearest_collision()
+                            .ok_or_else(|| {
+                                invalid(format!(
+                                    "{} has no collision whose controls to fix or free",
+                                    self.scene.bodies[self.selected].name
+                                ))
+                            })?
+                            .1
+                    }
+                };
+                let c = self
+                    .scene
+                    .event_controls
+                    .iter_mut()
+                    .find(|c| c.event == event)
+                    .ok_or_else(|| {
+                        invalid(format!(
+                            "event {event} has no controls: press e at it (or :event {event} then e) to add them"
+                        ))
+                    })?;
+                c.fixed = match free {
+                    Some(f) => !f,
+                    None => !c.fixed,
+                };
                 self.rebuild()?;
             }
             Edit::SetScale { kind, value } => {

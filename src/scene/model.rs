@@ -321,6 +321,9 @@ pub struct EventControl {
     pub normal: Option<[f64; 2]>,
     /// Restitution used at this event instead of the bodies', when controlled.
     pub restitution: Option<f64>,
+    /// The controls keep their values: the solver may not change them (the
+    /// surface stays as edited so far while later edits use other controls).
+    pub fixed: bool,
 }
 
 /// Scales (the diagonal of `M`) per kind of control: larger means "change

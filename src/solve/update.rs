@@ -720,6 +720,7 @@ mod tests {
             event: 0,
             normal: None,
             restitution: Some(0.9),
+            fixed: false,
         });
         let controls = Controls::new(&scene);
         let traj = simulate(&scene, &controls, &SimOptions::default()).expect("simulates");

@@ -18,7 +18,7 @@ use super::widgets;
 use crate::edit::{Core, Edit, Expression, Outcome, Side};
 use crate::math::Vec3;
 use crate::scene::{Accuracy, Block, Method, StateQuantity};
-use crate::view::View;
+use crate::view::{ControlRow, View};
 use ratatui::layout::Rect;
 use std::time::Instant;
 
@@ -346,6 +346,7 @@ impl App {
                     self.say_info("added normal and restitution controls at the nearest event");
                 }
             }
+            Action::ToggleEventControls => self.set_event_controls(core, None, None),
             Action::DeleteConstraint => self.delete_constraint(core, None),
             Action::BlockPrefix => self.input = Input::Block,
             Action::ToggleBlock(block) => {
@@ -663,6 +664,37 @@ impl App {
         }
     }
 
+    /// Fix or free an event's controls and say which entries changed.
+    fn set_event_controls(
+        &mut self,
+        core: &mut impl Core,
+        event: Option<usize>,
+        free: Option<bool>,
+    ) {
+        let before = core.view().controls;
+        if self
+            .apply(core, Edit::SetEventControls { event, free })
+            .is_some()
+        {
+            let after = core.view().controls;
+            let changed: Vec<&ControlRow> = after
+                .iter()
+                .filter(|r| before.iter().any(|b| b.name == r.name && b.free != r.free))
+                .collect();
+            match changed.first() {
+                Some(first) => {
+                    let state = if first.free { "free" } else { "fixed" };
+                    let names: Vec<&str> = changed.iter().map(|r| r.name.as_str()).collect();
+                    self.say_info(format!("{state}: {}", names.join(" ")));
+                }
+                None => {
+                    let state = if free == Some(true) { "free" } else { "fixed" };
+                    self.say_info(format!("the event's controls were already {state}"));
+                }
+            }
+        }
+    }
+
     fn settle(&mut self, core: &mut impl Core, budget_ms: u64) {
         if let Some(o) = self.apply(core, Edit::Settle { budget_ms }) {
             let residual = super::format::num(core.view().status.residual, 8);
@@ -801,6 +833,9 @@ impl App {
                 if let Some(i) = self.body_index(&view, &body) {
                     self.set_block(core, i, block, free);
                 }
+            }
+            Command::SetEventControls { event, free } => {
+                self.set_event_controls(core, event, Some(free));
             }
             Command::Time(t) => {
                 self.apply(core, Edit::SelectTime(t));

@@ -56,6 +56,12 @@ pub enum Command {
         block: Block,
         free: bool,
     },
+    /// `:free event [K]` / `:fix event [K]`: the controls at collision
+    /// event K (default: the selected body's nearest collision).
+    SetEventControls {
+        event: Option<usize>,
+        free: bool,
+    },
     /// `:t T` (s).
     Time(f64),
     /// `:event K`.
@@ -338,6 +344,19 @@ pub fn parse(line: &str) -> Result<Command, CommandError> {
             w.no_more(3)?;
             cmd
         }
+        "free" | "fix"
+            if w.get(1) == Some("event") && w.get(2).is_none_or(|k| k.parse::<usize>().is_ok()) =>
+        {
+            let event = match w.get(2) {
+                Some(_) => Some(w.index(2, "event number")?),
+                None => None,
+            };
+            w.no_more(3)?;
+            Command::SetEventControls {
+                event,
+                free: name == "free",
+            }
+        }
         "free" | "fix" => {
             let body = w.need(1, "body (name or index)")?;
             let block = w.block(2)?;
@@ -565,6 +584,24 @@ mod tests {
                 block: Block::Mass,
                 free: false
             })
+        );
+        assert_eq!(
+            parse("fix event"),
+            Ok(Command::SetEventControls {
+                event: None,
+                free: false
+            })
+        );
+        assert_eq!(
+            parse("free event 3"),
+            Ok(Command::SetEventControls {
+                event: Some(3),
+                free: true
+            })
+        );
+        assert_eq!(
+            err("fix event 3 4"),
+            ":fix event 3 4: unexpected extra argument"
         );
         assert_eq!(parse("  t 1.25 "), Ok(Command::Time(1.25)));
         assert_eq!(parse("event 3"), Ok(Command::Event(3)));

@@ -111,6 +111,8 @@ pub enum Action {
     Float,
     /// Normal and restitution controls at the nearest event.
     EventControls,
+    /// Fix or free the controls at the nearest event.
+    ToggleEventControls,
     /// Delete the selected constraint.
     DeleteConstraint,
     /// Wait for a block letter (the `b` prefix).
@@ -193,6 +195,7 @@ impl Action {
             Action::Nail => "Nail",
             Action::Float => "Float",
             Action::EventControls => "EventControls",
+            Action::ToggleEventControls => "ToggleEventControls",
             Action::DeleteConstraint => "DeleteConstraint",
             Action::BlockPrefix => "BlockPrefix",
             Action::ToggleBlock(_) => "ToggleBlock",
@@ -236,6 +239,7 @@ impl Action {
             Action::Nail,
             Action::Float,
             Action::EventControls,
+            Action::ToggleEventControls,
             Action::DeleteConstraint,
             Action::BlockPrefix,
             Action::ToggleBlock(Block::Position),
@@ -365,6 +369,7 @@ pub static KEYMAP: &[Binding] = &[
     hint(ch('a'), Nrm, Action::Nail, "nail all four quantities now (:nail for a subset)", "nail"),
     bind(ch('f'), Nrm, Action::Float, "floating constraint at the nearest collision"),
     bind(ch('e'), Nrm, Action::EventControls, "normal + restitution controls at the nearest event"),
+    bind(ch('E'), Nrm, Action::ToggleEventControls, "fix/free the controls at the nearest event"),
     bind(ch('c'), Nrm, Action::Constraint(Sense::Forward), "select the next constraint row"),
     bind(ch('C'), Nrm, Action::Constraint(Sense::Back), "select the previous constraint row"),
     bind(ch('x'), Nrm, Action::DeleteConstraint, "delete the selected constraint"),
@@ -588,6 +593,8 @@ pub const COMMANDS: &[(&str, &str)] = &[
         "free a control block (body: name or index)",
     ),
     (":fix body block", "fix a control block"),
+    (":fix event [k]", "fix the controls at event k (or nearest)"),
+    (":free event [k]", "free the controls at event k"),
     (":t 1.25", "go to time (s)"),
     (":event 3", "go to collision event 3"),
     (":body name", "select a body (name or index)"),

@@ -455,7 +455,7 @@ fn event_controls(top: &Table<'_, '_>) -> Result<Vec<EventControl>, SceneError> 
             owner: &owner,
             path: "",
         };
-        t.allow_only(&["event", "normal", "restitution"])?;
+        t.allow_only(&["event", "normal", "restitution", "fixed"])?;
         let hint = "give the 0-based index of the collision event in time order, e.g. event = 2";
         let event = t
             .index("event", hint)?
@@ -479,10 +479,17 @@ fn event_controls(top: &Table<'_, '_>) -> Result<Vec<EventControl>, SceneError> 
             Bound::Unit,
             "give the restitution used at this event, from 0 to 1",
         )?;
+        let fixed = t
+            .boolean(
+                "fixed",
+                "write fixed = true to keep these controls' values, or leave it out",
+            )?
+            .unwrap_or(false);
         out.push(EventControl {
             event,
             normal,
             restitution,
+            fixed,
         });
         owners.push(owner);
     }

@@ -306,6 +306,21 @@ impl<'a, 'i> Table<'a, 'i> {
             .ok_or_else(|| self.missing(key, hint))
     }
 
+    /// A boolean, if present.
+    pub fn boolean(&self, key: &str, hint: &str) -> Result<Option<bool>, SceneError> {
+        let Some(v) = self.get(key) else {
+            return Ok(None);
+        };
+        match v.get_ref() {
+            DeValue::Boolean(b) => Ok(Some(*b)),
+            _ => Err(self.src.error_at(
+                &v.span(),
+                &format!("{} must be true or false", self.field(key)),
+                hint,
+            )),
+        }
+    }
+
     /// A non-negative integer, if present.
     pub fn index(&self, key: &str, hint: &str) -> Result<Option<u64>, SceneError> {
         let Some(v) = self.get(key) else {

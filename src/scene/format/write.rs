@@ -353,6 +353,9 @@ pub(super) fn to_toml(scene: &Scene) -> String {
         if let Some(e) = c.restitution {
             let _ = writeln!(out, "restitution = {}", float(e));
         }
+        if c.fixed {
+            let _ = writeln!(out, "fixed = true");
+        }
     }
 
     for c in &scene.constraints {
