@@ -245,8 +245,11 @@ const ROUNDOFF: f64 = 1e-13;
 /// "More accurate" means a smaller error by at least this factor ...
 const ACCURACY_MARGIN: f64 = 2.0;
 /// ... and "faster" a shorter median update by at least this fraction, so
-/// timing noise and round-off differences do not move the front.
-const SPEED_MARGIN: f64 = 0.1;
+/// timing noise and round-off differences do not move the front. Rows are
+/// timed one after another, and on this project's 2-core VM the same row's
+/// median moves by up to about 20 % from run to run (at 10 % the front
+/// changed between two runs of the same build).
+const SPEED_MARGIN: f64 = 0.25;
 
 /// Whether a row is on its scene's Pareto front: no other setting of the
 /// scene is both faster per update and more accurate in the final state
@@ -343,7 +346,7 @@ pub(crate) fn print(
   agree in order), so no error is computed. sim+J: one simulation with tangents; update: one
   differential update from the current motion, as the editor runs it (drag of body 0 by {DRAG_OFFSET} m in
   x and z at the drag time: KKT solve, trial simulations with tangents, any step halving and sampling); reps: timed runs of each. pareto: front = no other setting of the scene
-  is both faster per update (by 10 %) and more accurate (state error smaller by 2x; errors below
+  is both faster per update (by 25 %) and more accurate (state error smaller by 2x; errors below
   1e-13 count as equal); — = no state error to place.
 "
     )?;
@@ -516,7 +519,7 @@ mod tests {
         let rows = vec![
             row(10.0, Error::Value(1e-6)),
             row(5.0, Error::Value(1e-8)),   // dominates the first
-            row(5.2, Error::Value(0.9e-8)), // not 10 % slower and not 2x less accurate than row 1
+            row(5.2, Error::Value(0.9e-8)), // not 25 % slower and not 2x less accurate than row 1
             row(1.0, Error::Value(1e-3)),
             row(20.0, Error::Value(1e-16)),
             row(30.0, Error::Value(0.0)), // round-off like row 4: not dominated by it
