@@ -39,6 +39,25 @@ pub fn num(v: f64, width: usize) -> String {
     shortest
 }
 
+/// Control values below this fraction of their scale are round-off of the
+/// solver's steps (a rotation axis that should stay 0 reads `2e-18`) and
+/// print as `0`; the report and the saved file keep the exact value.
+pub const CONTROL_RESOLUTION: f64 = 1e-12;
+
+/// `v` with round-off below [`CONTROL_RESOLUTION`] of `scale` shown as 0.
+pub fn resolved(v: f64, scale: f64) -> f64 {
+    let unit = if scale.is_finite() && scale > 0.0 {
+        scale
+    } else {
+        1.0
+    };
+    if v.abs() < CONTROL_RESOLUTION * unit {
+        0.0
+    } else {
+        v
+    }
+}
+
 /// Like [`num`] with an explicit `+` on positive values (for deltas).
 pub fn signed(v: f64, width: usize) -> String {
     if v.is_finite() && v > 0.0 {
@@ -140,6 +159,20 @@ mod tests {
             assert_eq!(num(v, 8), "—");
             assert_eq!(signed(v, 8), "—");
         }
+    }
+
+    #[test]
+    fn round_off_relative_to_the_scale_reads_zero() {
+        assert_eq!(resolved(2e-18, 1.0), 0.0);
+        assert_eq!(resolved(-5e-17, 1.0), 0.0);
+        assert_eq!(resolved(3e-12, 1.0), 3e-12);
+        // A smaller scale resolves smaller values.
+        assert_eq!(resolved(2e-15, 1e-3), 2e-15);
+        assert_eq!(resolved(2e-16, 1e-3), 0.0);
+        // A scale that is not a positive number counts as 1.
+        assert_eq!(resolved(1e-13, f64::NAN), 0.0);
+        assert_eq!(resolved(1e-13, 0.0), 0.0);
+        assert!(resolved(f64::NAN, 1.0).is_nan());
     }
 
     #[test]

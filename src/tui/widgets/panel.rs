@@ -1,7 +1,9 @@
 //! The side panel: the control vector (free rows first) and the
 //! constraints, each under a one-line titled rule.
 
-use crate::tui::format::{num, pad_left_aligned, pad_right_aligned, scrub, signed, truncate};
+use crate::tui::format::{
+    num, pad_left_aligned, pad_right_aligned, resolved, scrub, signed, truncate,
+};
 use crate::tui::theme::Theme;
 use crate::view::{ControlRow, View};
 use ratatui::buffer::Buffer;
@@ -123,10 +125,12 @@ impl Widget for &ControlsPanel<'_> {
         };
         for c in &rows[..shown] {
             let marker = if c.free { "●" } else { "○" };
-            let delta = if c.delta == 0.0 {
+            let value = resolved(c.value, c.scale);
+            let change = resolved(c.delta, c.scale);
+            let delta = if change == 0.0 {
                 String::new()
             } else {
-                signed(c.delta, dw)
+                signed(change, dw)
             };
             let base = if c.free {
                 ratatui::style::Style::new()
@@ -141,17 +145,10 @@ impl Widget for &ControlsPanel<'_> {
                     ),
                     base,
                 ),
-                Span::styled(
-                    format!("{} ", pad_right_aligned(&num(c.value, vw), vw)),
-                    base,
-                ),
+                Span::styled(format!("{} ", pad_right_aligned(&num(value, vw), vw)), base),
                 Span::styled(
                     format!("{} ", pad_right_aligned(&delta, dw)),
-                    if c.delta != 0.0 {
-                        theme.changed()
-                    } else {
-                        base
-                    },
+                    if change != 0.0 { theme.changed() } else { base },
                 ),
                 Span::styled(pad_right_aligned(&num(c.scale, sw), sw), theme.dim()),
             ]));
@@ -286,6 +283,31 @@ mod tests {
             let line = text.lines().nth(2).unwrap_or_default();
             assert!(line.contains(first), "selected {selected}: {text}");
         }
+    }
+
+    /// Solver round-off (a value of 2e-18 on a scale of 1) reads 0 and
+    /// a round-off change is no change; real small values stay.
+    #[test]
+    fn round_off_values_and_changes_read_as_zero() {
+        let mut view = fixtures::view();
+        let row = |name: &str, value: f64, delta: f64| ControlRow {
+            name: name.into(),
+            value,
+            delta,
+            free: true,
+            scale: 1.0,
+        };
+        view.controls = vec![row("ball.r.x", 2e-18, -3e-17), row("ball.r.y", 2e-6, 1e-7)];
+        let mut buf = Buffer::empty(Rect::new(0, 0, 28, 4));
+        (&ControlsPanel {
+            view: &view,
+            theme: Theme::PLAIN,
+        })
+            .render(buf.area, &mut buf);
+        let text = buffer_text(&buf);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[2], "● ball.r.x      0          1", "\n{text}");
+        assert_eq!(lines[3], "● ball.r.y   2e-6  +1e-7   1", "\n{text}");
     }
 
     #[test]
