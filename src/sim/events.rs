@@ -216,25 +216,27 @@ impl World<'_> {
     /// point can cross before the returned time — far larger than the
     /// speed-bound step when a body separates slowly after a bounce, or
     /// spins fast.
+    ///
+    /// One call serves several skins (`skins[i]` gives `steps[i]`): the
+    /// contact queries, the costly part, do not depend on the skin.
     #[allow(clippy::too_many_arguments)]
-    fn plane_step(
+    /// `planes` are the pair's part contacts within `reach` at `t`
+    /// ([`World::part_contacts_at`]).
+    fn plane_steps<const K: usize>(
         &self,
         pair: &Pair,
         sa: &Option<BodyState>,
         sb: &Option<BodyState>,
-        skin: f64,
+        planes: &[Contact],
+        skins: [f64; K],
         reach: f64,
         t: f64,
         rem: f64,
-    ) -> Option<f64> {
+    ) -> Option<[f64; K]> {
         let s = sa.as_ref()?;
-        let level = -skin;
-        let pose_a = isometry(s);
-        let pose_b = self.pose(pair.b, sb);
-        Counters::bump(&self.traj.counters.collisions, 1);
+        let levels = skins.map(|skin| -skin);
         let ga = self.geometry(Party::Body(pair.a));
         let gb = self.geometry(pair.b);
-        let planes = crate::geometry::part_contacts(ga, &pose_a, gb, &pose_b, reach);
         let moving_b = match (pair.b, sb) {
             (Party::Body(j), Some(s)) => Some((j, s)),
             _ => None,
@@ -309,7 +311,7 @@ impl World<'_> {
                 f64::INFINITY
             }
         };
-        let mut best = f64::INFINITY;
+        let mut best = [f64::INFINITY; K];
         let ball = |g: &crate::geometry::Geometry, part: usize| {
             matches!(g.parts[part].kind, crate::geometry::PartKind::Ball { .. })
         };
@@ -369,9 +371,11 @@ impl World<'_> {
                     + (w_p * w_p + al_p) * r.norm()
                     + (al_q + w_q * w_q) * rho
                     + 2.0 * w_q * v_rel;
-                best = best.min(first_cross(c.distance, rate, -acc, level));
-                if best == 0.0 {
-                    return Some(0.0);
+                for (b, &level) in best.iter_mut().zip(&levels) {
+                    *b = b.min(first_cross(c.distance, rate, -acc, level));
+                }
+                if best.iter().all(|&b| b == 0.0) {
+                    return Some(best);
                 }
                 continue;
             }
@@ -384,25 +388,30 @@ impl World<'_> {
                     let hb = heights(gb, c.part_b, sb, tb, &n, &p0, &vf, -1.0)?;
                     let min_a = ha.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
                     let min_b = hb.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
-                    let spare = 0.5 * (min_a + min_b - level);
-                    if spare.is_nan() || spare <= 0.0 {
-                        return Some(0.0);
-                    }
-                    for &(h, hd, acc) in &ha {
-                        best = best.min(first_cross(h, hd, acc, min_a - spare));
-                    }
-                    for &(h, hd, acc) in &hb {
-                        best = best.min(first_cross(h, hd, acc, min_b - spare));
+                    for (b, &level) in best.iter_mut().zip(&levels) {
+                        let spare = 0.5 * (min_a + min_b - level);
+                        if spare.is_nan() || spare <= 0.0 {
+                            *b = 0.0;
+                            continue;
+                        }
+                        for &(h, hd, acc) in &ha {
+                            *b = b.min(first_cross(h, hd, acc, min_a - spare));
+                        }
+                        for &(h, hd, acc) in &hb {
+                            *b = b.min(first_cross(h, hd, acc, min_b - spare));
+                        }
                     }
                 }
                 _ => {
-                    for &(h, hd, acc) in &ha {
-                        best = best.min(first_cross(h, hd, acc, level));
+                    for (b, &level) in best.iter_mut().zip(&levels) {
+                        for &(h, hd, acc) in &ha {
+                            *b = b.min(first_cross(h, hd, acc, level));
+                        }
                     }
                 }
             }
-            if best == 0.0 {
-                return Some(0.0);
+            if best.iter().all(|&b| b == 0.0) {
+                return Some(best);
             }
         }
         Some(best)
@@ -414,6 +423,50 @@ impl World<'_> {
         let sa = self.state(Party::Body(pair.a), t);
         let sb = self.state(pair.b, t);
         self.contact_with(pair, &sa, &sb, max_distance)
+    }
+
+    /// Every part pair's contact within `max_distance` (one contact query).
+    fn part_contacts_at(
+        &self,
+        pair: &Pair,
+        sa: &Option<BodyState>,
+        sb: &Option<BodyState>,
+        max_distance: f64,
+    ) -> Vec<Contact> {
+        let pa = self.pose(Party::Body(pair.a), sa);
+        let pb = self.pose(pair.b, sb);
+        Counters::bump(&self.traj.counters.collisions, 1);
+        crate::geometry::part_contacts(
+            self.geometry(Party::Body(pair.a)),
+            &pa,
+            self.geometry(pair.b),
+            &pb,
+            max_distance,
+        )
+    }
+
+    /// The closest of `contacts` (the first of equals, as [`contact`]
+    /// picks it), with its relative normal velocity (negative when
+    /// approaching).
+    fn closest(
+        contacts: &[Contact],
+        sa: &Option<BodyState>,
+        sb: &Option<BodyState>,
+    ) -> Option<(Contact, f64)> {
+        let c = *contacts
+            .iter()
+            .min_by(|x, y| x.distance.total_cmp(&y.distance))?;
+        Some((c, Self::normal_rate(&c, sa, sb)))
+    }
+
+    fn normal_rate(c: &Contact, sa: &Option<BodyState>, sb: &Option<BodyState>) -> f64 {
+        let va = sa
+            .map(|s| s.v + s.w.cross(&(c.point_a - s.x)))
+            .unwrap_or_default();
+        let vb = sb
+            .map(|s| s.v + s.w.cross(&(c.point_b - s.x)))
+            .unwrap_or_default();
+        c.normal.dot(&(va - vb))
     }
 
     fn contact_with(
@@ -433,13 +486,7 @@ impl World<'_> {
             &pb,
             max_distance,
         )?;
-        let va = sa
-            .map(|s| s.v + s.w.cross(&(c.point_a - s.x)))
-            .unwrap_or_default();
-        let vb = sb
-            .map(|s| s.v + s.w.cross(&(c.point_b - s.x)))
-            .unwrap_or_default();
-        Some((c, c.normal.dot(&(va - vb))))
+        Some((c, Self::normal_rate(&c, sa, sb)))
     }
 
     /// Axis-aligned box containing body `i` over `[t0, t1]`.
@@ -522,7 +569,10 @@ impl World<'_> {
             let bb = self.bounds(pair.b, &sb, t);
             let rem = t1 - t;
             let reach = Self::reach_in(&ba, &bb, rem) + hit + skin;
-            let Some((c, rate)) = self.contact_with(pair, &sa, &sb, reach) else {
+            // One query serves both the closest contact and the
+            // separating planes of every part pair.
+            let planes = self.part_contacts_at(pair, &sa, &sb, reach);
+            let Some((c, rate)) = Self::closest(&planes, &sa, &sb) else {
                 return Ok(None);
             };
             if c.distance > tol.arm {
@@ -566,7 +616,19 @@ impl World<'_> {
                 (2.0 * hit - e).max(hit)
             };
             let mut tau = Self::advance(&ba, &bb, gap);
-            if let Some(tp) = self.plane_step(pair, &sa, &sb, -0.5 * hit, reach, t, rem)
+            let [rearm, in_skin, graze] = self
+                .plane_steps(
+                    pair,
+                    &sa,
+                    &sb,
+                    &planes,
+                    [-0.5 * hit, skin - 0.5 * hit, skin - tol.root],
+                    reach,
+                    t,
+                    rem,
+                )
+                .map_or([None; 3], |steps| steps.map(Some));
+            if let Some(tp) = rearm
                 && tp > tau
             {
                 // Every point's next descent to the plane is bounded: the
@@ -574,7 +636,7 @@ impl World<'_> {
                 tau = tp;
                 skin = 0.0;
             } else if skin > 0.0
-                && let Some(tp) = self.plane_step(pair, &sa, &sb, skin - 0.5 * hit, reach, t, rem)
+                && let Some(tp) = in_skin
                 && tp > tau
             {
                 // A disarmed pair whose point still sits in the skin (a slow
@@ -584,7 +646,7 @@ impl World<'_> {
                 tau = tp;
             } else if e <= hit
                 && rate < 0.0
-                && let Some(tp) = self.plane_step(pair, &sa, &sb, skin - tol.root, reach, t, rem)
+                && let Some(tp) = graze
                 && tp > tau
             {
                 // Approaching inside the contact band, but too slowly for the
