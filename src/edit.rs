@@ -19,6 +19,26 @@ pub enum Side {
     Post,
 }
 
+/// What a constraint about the world vertical holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Vertical {
+    /// The body's z axis (its shape frame's) points straight up.
+    Upright,
+    /// The body spins only about the vertical: no tumbling, so a body that
+    /// stands upright stays so.
+    Steady,
+}
+
+impl Vertical {
+    /// The word the command line, the panels and the saved file use.
+    pub fn word(self) -> &'static str {
+        match self {
+            Vertical::Upright => "upright",
+            Vertical::Steady => "steady",
+        }
+    }
+}
+
 /// An expression constraint (paper §4.2).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Expression {
@@ -74,10 +94,10 @@ pub enum Edit {
     },
     /// An expression constraint on the selected body at the current time.
     Expression(Expression),
-    /// The selected body's z axis (its shape frame's) points straight up:
+    /// A constraint about the vertical on the selected body ([`Vertical`]):
     /// at the current time (`side: None`), or just before or after its
     /// collision nearest the current time (a floating constraint).
-    Upright { side: Option<Side> },
+    Vertical { goal: Vertical, side: Option<Side> },
     /// Remove the constraint with this index (in the constraints panel order).
     RemoveConstraint(usize),
     /// Free or fix a control block of a body.

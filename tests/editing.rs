@@ -2,7 +2,7 @@
 
 use nudge::controls::Controls;
 use nudge::edit::Editor;
-use nudge::edit::{Core, Edit, Expression, Side};
+use nudge::edit::{Core, Edit, Expression, Side, Vertical};
 use nudge::geometry::Geometry;
 use nudge::math::Vec3;
 use nudge::scene::{Block, Effects, Scene, StateQuantity};
@@ -484,7 +484,11 @@ fn an_upright_constraint_brings_the_z_axis_vertical() {
     s.bodies.push(b);
     let mut e = Editor::new(s, None).unwrap();
     e.apply(Edit::SelectTime(0.5)).unwrap();
-    e.apply(Edit::Upright { side: None }).unwrap();
+    e.apply(Edit::Vertical {
+        goal: Vertical::Upright,
+        side: None,
+    })
+    .unwrap();
     // Rows against central differences before solving.
     let c = e.constraints()[0].clone();
     let (r0, rows) = c.evaluate(e.trajectory(), true).unwrap();
@@ -511,6 +515,60 @@ fn an_upright_constraint_brings_the_z_axis_vertical() {
     let st = e.trajectory().state(0, 0.5, StateSide::After);
     let tilt = (st.q * Vec3::z()).z.clamp(-1.0, 1.0).acos();
     assert!(tilt < 1e-6, "tilt {tilt:.2e} rad");
+}
+
+/// `:steady`: a tumbling box's angular velocity is turned onto the vertical
+/// at a time (it may spin about the vertical, not tumble), the constraint
+/// rows match finite differences, and the spin about the vertical is left
+/// to the solver.
+#[test]
+fn a_steady_constraint_leaves_only_spin_about_the_vertical() {
+    let mut s = testkit::scene(1.0);
+    s.effects.gyroscopic = true;
+    let mut b = body(
+        "box",
+        Geometry::cuboid(Vec3::new(0.2, 0.1, 0.05)).unwrap(),
+        Vec3::new(0.0, 0.0, 2.0),
+    );
+    b.orientation = Vec3::new(0.3, -0.2, 0.4);
+    b.angular_velocity = Vec3::new(0.5, 1.0, 2.0);
+    b.free = vec![Block::Orientation, Block::AngularVelocity];
+    s.bodies.push(b);
+    let mut e = Editor::new(s, None).unwrap();
+    e.apply(Edit::SelectTime(0.5)).unwrap();
+    e.apply(Edit::Vertical {
+        goal: Vertical::Steady,
+        side: None,
+    })
+    .unwrap();
+    assert_eq!(e.constraints()[0].label(), "steady");
+    let c = e.constraints()[0].clone();
+    let (r0, rows) = c.evaluate(e.trajectory(), true).unwrap();
+    let rows = rows.expect("rows");
+    let controls = e.controls().clone();
+    let u0 = controls.values(e.scene());
+    for k in 0..u0.len() {
+        let h = 1e-6;
+        let at = |d: f64| {
+            let mut s = e.scene().clone();
+            let mut u = u0.clone();
+            u[k] += d;
+            controls.write(&mut s, &u);
+            let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
+            c.evaluate(&tr, false).unwrap().0
+        };
+        let fd = -(at(h) - at(-h)) / (2.0 * h);
+        let err = (rows.column(k) - &fd).norm() / fd.norm().max(1e-3);
+        assert!(err < 1e-6, "column {k}: {err:.2e}");
+    }
+    assert!(r0.norm() > 0.5, "tumbling to begin with: {r0}");
+    settle(&mut e);
+    let w = e.trajectory().state(0, 0.5, StateSide::After).w;
+    assert!(w.xy().norm() < 1e-8, "still tumbling: ω = {w}");
+    assert!(
+        w.z.abs() > 0.1,
+        "the spin about the vertical was removed too: ω = {w}"
+    );
 }
 
 /// After undo and redo the status showed the undone accuracy setting, the

@@ -2,7 +2,7 @@
 //! constraints, the current motion and the undo history. Every change goes
 //! through [`Core::apply`] and is atomic.
 
-use super::{Core, Edit, EditError, Expression, Outcome, Side};
+use super::{Core, Edit, EditError, Expression, Outcome, Side, Vertical};
 use crate::controls::Controls;
 use crate::math::{Vec3, exp_so3, log_so3};
 use crate::report::{self, ConstraintRow};
@@ -616,25 +616,30 @@ impl Editor {
                     drag: false,
                 });
             }
-            Edit::Upright { side } => {
+            Edit::Vertical { goal, side } => {
                 let anchor = match side {
                     None => Anchor::Time(self.time),
                     Some(side) => {
                         let (collision, _) = self.nearest_collision().ok_or_else(|| {
                             invalid(format!(
-                                "{} has no collision to hold it upright at",
-                                self.scene.bodies[self.selected].name
+                                "{} has no collision to hold it {} at",
+                                self.scene.bodies[self.selected].name,
+                                goal.word()
                             ))
                         })?;
                         Anchor::Event { collision, side }
                     }
                 };
-                // The shape's z axis (the body frame is the shape's, moved
-                // to the centre of mass).
+                // Upright: the shape's z axis (the body frame is the
+                // shape's, moved to the centre of mass). Steady: the world's.
+                let kind = match goal {
+                    Vertical::Upright => Kind::Upright { axis: Vec3::z() },
+                    Vertical::Steady => Kind::Steady { axis: Vec3::z() },
+                };
                 self.constraints.push(Constraint {
                     body: self.selected,
                     anchor,
-                    kind: Kind::Upright { axis: Vec3::z() },
+                    kind,
                     drag: false,
                 });
             }
@@ -879,7 +884,9 @@ fn to_spec(scene: &Scene, c: &Constraint) -> ConstraintSpec {
         }
         Kind::EqualSpeed { other } => spec.other = Some(name(*other)),
         Kind::AngularSpeed { value } => spec.target = vec![*value],
-        Kind::Upright { axis } => spec.target = axis.iter().cloned().collect(),
+        Kind::Upright { axis } | Kind::Steady { axis } => {
+            spec.target = axis.iter().cloned().collect()
+        }
         Kind::PointOnPlane {
             point,
             normal,
@@ -947,6 +954,7 @@ fn from_spec(scene: &Scene, s: &ConstraintSpec) -> Option<Constraint> {
             value: *s.target.first()?,
         },
         "upright" => Kind::Upright { axis: v3(0)? },
+        "steady" => Kind::Steady { axis: v3(0)? },
         "point_on_plane" => Kind::PointOnPlane {
             point: v3(0)?,
             normal: v3(3)?,

@@ -2,7 +2,7 @@ use crate::edit::Side;
 use crate::math::{Vec3, log_so3, right_jacobian_inv, skew};
 use crate::scene::StateQuantity;
 use crate::sim::{BodyState, StateSide, TangentError, Trajectory};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix3};
 
 /// When a constraint is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,6 +40,11 @@ pub enum Kind {
     /// solution, so the solver's rank-revealing solve drops the third);
     /// upside down it is 2, not 0.
     Upright { axis: Vec3 },
+    /// The angular velocity lies along the world unit vector `axis` (the
+    /// vertical, +z): the body may spin about it but not tumble, so a body
+    /// standing upright does not tip over. Residual `−(ω − (ω·a) a)` (3
+    /// rows, rank 2).
+    Steady { axis: Vec3 },
     /// `|p − p_other| = value` between body-frame points.
     Distance {
         other: usize,
@@ -81,7 +86,7 @@ impl Constraint {
     pub fn rows(&self) -> usize {
         match &self.kind {
             Kind::State { quantities, .. } => 3 * quantities.len(),
-            Kind::Upright { .. } => 3,
+            Kind::Upright { .. } | Kind::Steady { .. } => 3,
             _ => 1,
         }
     }
@@ -96,6 +101,7 @@ impl Constraint {
             (Kind::AngularSpeed { .. }, ..) => "angular_speed",
             (Kind::PointOnPlane { .. }, ..) => "point_on_plane",
             (Kind::Upright { .. }, ..) => "upright",
+            (Kind::Steady { .. }, ..) => "steady",
             (Kind::Distance { .. }, ..) => "distance",
         }
     }
@@ -246,6 +252,13 @@ impl Constraint {
                 let r = Vec3::z() - a;
                 // δa = δθ × a = −[a]× δθ.
                 let c = e.jac.map(|j| dynamic(&(-skew(&a) * j.rows(3, 3))));
+                Ok((DVector::from_column_slice(r.as_slice()), c))
+            }
+            Kind::Steady { axis } => {
+                let a = axis.normalize();
+                let across = Matrix3::identity() - a * a.transpose();
+                let r = -(across * s.w);
+                let c = e.jac.map(|j| dynamic(&(across * j.rows(9, 3))));
                 Ok((DVector::from_column_slice(r.as_slice()), c))
             }
             Kind::Distance {

@@ -15,7 +15,7 @@ use super::key::{Key, KeyCode, Mods};
 use super::keymap::{self, Action, Context, Sense};
 use super::theme::Theme;
 use super::widgets;
-use crate::edit::{Core, Edit, Expression, Outcome, Side};
+use crate::edit::{Core, Edit, Expression, Outcome, Side, Vertical};
 use crate::math::Vec3;
 use crate::scene::{Accuracy, Block, Method, StateQuantity};
 use crate::view::{ControlRow, View};
@@ -763,8 +763,8 @@ impl App {
         };
         match cmd {
             Command::Nail { quantities, exact } => self.nail(core, quantities, exact),
-            Command::Upright(side) => {
-                if self.apply(core, Edit::Upright { side }).is_some() {
+            Command::Vertical(goal, side) => {
+                if self.apply(core, Edit::Vertical { goal, side }).is_some() {
                     let view = core.view();
                     let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
                     let at = match side {
@@ -773,7 +773,11 @@ impl App {
                         Some(Side::Post) => "just after its nearest collision".to_string(),
                     };
                     let hint = settle_hint(true, &view);
-                    self.say_info(format!("{body} upright {at}{hint}"));
+                    let what = match goal {
+                        Vertical::Upright => "upright",
+                        Vertical::Steady => "spins about the vertical only",
+                    };
+                    self.say_info(format!("{body} {what} {at}{hint}"));
                 }
             }
             Command::Float {

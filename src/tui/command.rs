@@ -2,7 +2,7 @@
 //! parsed strictly: `NaN`, `inf` and garbage are refused with a message that
 //! quotes the bad word and says what was expected.
 
-use crate::edit::Side;
+use crate::edit::{Side, Vertical};
 use crate::math::Vec3;
 use crate::scene::{Block, StateQuantity};
 use std::path::PathBuf;
@@ -32,9 +32,10 @@ pub enum Command {
         quantities: Vec<StateQuantity>,
         exact: Vec<(StateQuantity, Vec3)>,
     },
-    /// `:upright [pre|post]`: the body's z axis straight up now, or at the
-    /// nearest collision (floating).
-    Upright(Option<Side>),
+    /// `:upright [pre|post]` (the body's z axis straight up) or `:steady
+    /// [pre|post]` (spin about the vertical only), now or at the nearest
+    /// collision (floating).
+    Vertical(Vertical, Option<Side>),
     /// `:set tol X`: adaptive integrator with tolerance X.
     SetTol(f64),
     /// `:set step H`: RK4 with step H (s).
@@ -297,7 +298,12 @@ pub fn parse(line: &str) -> Result<Command, CommandError> {
                 exact,
             }
         }
-        "upright" => {
+        word @ ("upright" | "steady") => {
+            let goal = if word == "upright" {
+                Vertical::Upright
+            } else {
+                Vertical::Steady
+            };
             let side = match w.get(1) {
                 None => None,
                 Some("pre") => Some(Side::Pre),
@@ -305,7 +311,7 @@ pub fn parse(line: &str) -> Result<Command, CommandError> {
                 Some(_) => return Err(w.err(1, "expected pre, post or nothing")),
             };
             w.no_more(2)?;
-            Command::Upright(side)
+            Command::Vertical(goal, side)
         }
         "set" => {
             let what = w.need(1, "setting (tol, step, method, roottol, scale, nudge)")?;
@@ -554,8 +560,18 @@ mod tests {
                 exact: vec![]
             })
         );
-        assert_eq!(parse("upright"), Ok(Command::Upright(None)));
-        assert_eq!(parse("upright pre"), Ok(Command::Upright(Some(Side::Pre))));
+        assert_eq!(
+            parse("upright"),
+            Ok(Command::Vertical(Vertical::Upright, None))
+        );
+        assert_eq!(
+            parse("upright pre"),
+            Ok(Command::Vertical(Vertical::Upright, Some(Side::Pre)))
+        );
+        assert_eq!(
+            parse("steady post"),
+            Ok(Command::Vertical(Vertical::Steady, Some(Side::Post)))
+        );
         assert_eq!(parse("set tol 1e-9"), Ok(Command::SetTol(1e-9)));
         assert_eq!(parse("set step 1e-3"), Ok(Command::SetStep(1e-3)));
         assert_eq!(

@@ -576,6 +576,10 @@ pub const COMMANDS: &[(&str, &str)] = &[
         ":upright [pre|post]",
         "z axis up now (or at nearest collision)",
     ),
+    (
+        ":steady [pre|post]",
+        "spin about the vertical only: no tipping",
+    ),
     (":set tol 1e-9", "adaptive integrator with this tolerance"),
     (":set step 1e-3", "fixed-step RK4 with this step (s)"),
     (
