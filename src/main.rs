@@ -167,28 +167,40 @@ fn jacobian_check(scene: &Scene, controls: &Controls, traj: &nudge::sim::Traject
     }
     println!("\njacobian: tangent vs central differences (largest relative disagreement)");
     println!("  {:<34} {:>12} {:>12}", "block", "final", "events");
-    let mut times: Vec<(f64, StateSide)> = vec![(scene.duration, StateSide::After)];
-    for e in &traj.events {
-        times.push((e.t, StateSide::Before));
-        times.push((e.t, StateSide::After));
-    }
     for (name, cols) in &blocks {
         let comparable = cols.iter().all(|&c| fd.comparable[c]);
         if !comparable {
             println!("  {name:<34} {:>12} {:>12}", "n/c", "n/c");
             continue;
         }
+        let mask: Vec<bool> = (0..controls.m()).map(|c| cols.contains(&c)).collect();
+        // At the final time: every body's state.
         let mut worst = [0.0f64; 2];
-        for (k, (t, side)) in times.iter().enumerate() {
-            for b in 0..scene.bodies.len() {
-                let Ok(jt) = traj.jacobian(b, *t, *side) else {
+        for b in 0..scene.bodies.len() {
+            if let Ok(jt) = traj.jacobian(b, scene.duration, StateSide::After) {
+                let jf = fd.at(b, scene.duration, StateSide::After);
+                worst[0] = worst[0].max(nudge::tangent::max_relative_error(&jt, &jf, &mask, 1e-3));
+            }
+        }
+        // At every event, just before and after the impulse: the state at
+        // each run's own event time (the event moves with the controls, so
+        // a fixed-time quotient there would straddle the jump), against
+        // J + F dt_c/du.
+        for (k, e) in traj.events.iter().enumerate() {
+            let Some(dt) = e.dt_du.as_ref() else {
+                continue;
+            };
+            for (side, s) in [
+                (StateSide::Before, &e.pre[0]),
+                (StateSide::After, &e.post[0]),
+            ] {
+                let (Ok(j), Some(jf)) = (traj.jacobian(e.a, e.t, side), fd.at_event(k, e.a, side))
+                else {
                     continue;
                 };
-                let jf = fd.at(b, *t, *side);
-                let mask: Vec<bool> = (0..controls.m()).map(|c| cols.contains(&c)).collect();
-                let e = nudge::tangent::max_relative_error(&jt, &jf, &mask, 1e-3);
-                let slot = usize::from(k > 0);
-                worst[slot] = worst[slot].max(e);
+                let f = traj.flow(e.a, s, e.rest && side == StateSide::After);
+                let jt = j + f * dt.transpose();
+                worst[1] = worst[1].max(nudge::tangent::max_relative_error(&jt, &jf, &mask, 1e-3));
             }
         }
         println!(
