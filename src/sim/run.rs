@@ -147,6 +147,22 @@ fn reset_theta(mut z: Vec<f64>) -> Vec<f64> {
     z
 }
 
+/// Whether any free control reaches body `i`'s rotation in a segment that
+/// starts with Jacobian `j0`: its orientation or angular-velocity rows are
+/// not all zero, or its inertia is free. Otherwise those rows stay zero to
+/// the segment's end (in free flight the rotation depends only on its own
+/// start and the inertia), and the variational equation is not integrated
+/// there: the segment costs what a plain simulation costs (`tangent_block`
+/// of the shorter vector is zero, which is then exact).
+fn rotation_reached(j0: &DMatrix<f64>, controls: &Controls, i: usize) -> bool {
+    controls.body_column(i, Block::Inertia).is_some()
+        || j0
+            .rows(3, 3)
+            .iter()
+            .chain(j0.rows(9, 3).iter())
+            .any(|v| *v != 0.0)
+}
+
 fn initial_jacobian(scene: &Scene, controls: &Controls, i: usize, m: usize) -> DMatrix<f64> {
     let mut j = DMatrix::zeros(12, m);
     let b = &scene.bodies[i];
@@ -215,9 +231,10 @@ pub fn simulate(
                 steps: Vec::new(),
             }],
         });
+        let reached = opts.tangent && rotation_reached(&tracks[i].segments[0].j0, controls, i);
         cursors.push(dynamics[i].integrate.then(|| Cursor {
             q,
-            z: integrator::initial(&(q.inverse() * b.angular_velocity), opts.tangent),
+            z: integrator::initial(&(q.inverse() * b.angular_velocity), reached),
         }));
     }
     let col = |i: usize, b: Block| {
@@ -1148,6 +1165,7 @@ impl Sim<'_> {
         rest: bool,
         slide: Option<Slide>,
     ) {
+        let reached = self.opts.tangent && rotation_reached(&j0, self.controls, i);
         self.traj.tracks[i].segments.push(Segment {
             t0,
             start,
@@ -1160,7 +1178,7 @@ impl Sim<'_> {
         self.cursors[i] =
             (self.traj.dynamics[i].integrate && !rest && slide.is_none()).then(|| Cursor {
                 q: start.q,
-                z: integrator::initial(&(start.q.inverse() * start.w), self.opts.tangent),
+                z: integrator::initial(&(start.q.inverse() * start.w), reached),
             });
     }
 
