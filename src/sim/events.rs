@@ -217,11 +217,11 @@ impl World<'_> {
     /// speed-bound step when a body separates slowly after a bounce, or
     /// spins fast.
     ///
-    /// One call serves several skins (`skins[i]` gives `steps[i]`): the
-    /// contact queries, the costly part, do not depend on the skin.
-    #[allow(clippy::too_many_arguments)]
     /// `planes` are the pair's part contacts within `reach` at `t`
-    /// ([`World::part_contacts_at`]).
+    /// ([`World::part_contacts_at`]). One call serves several skins
+    /// (`skins[i]` gives `steps[i]`): the contact queries, the costly part,
+    /// do not depend on the skin.
+    #[allow(clippy::too_many_arguments)]
     fn plane_steps<const K: usize>(
         &self,
         pair: &Pair,
