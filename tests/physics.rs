@@ -4,7 +4,7 @@ use nudge::controls::Controls;
 use nudge::geometry::Geometry;
 use nudge::math::Vec3;
 use nudge::sim::{SimOptions, StateSide, simulate};
-use nudge::testkit::{self, body, body_with_inertia, ground};
+use nudge::testkit::{self, body, body_with_inertia, ground, obstacle};
 
 fn run(scene: &nudge::scene::Scene) -> nudge::sim::Trajectory {
     let controls = Controls::new(scene);
@@ -579,4 +579,96 @@ fn regression_a_body_started_inside_the_floor_fell_through_it() {
     // Touching (within 1e-9 m) is fine.
     s.bodies[0].position.z = 0.1;
     assert!(simulate(&s, &Controls::new(&s), &SimOptions::default()).is_ok());
+}
+
+/// Balls bouncing in a box, each against the ground, the walls and every
+/// other ball. A pair's event search is kept while neither ball's motion
+/// changes and runs a window ahead; if a kept search went stale (a ball
+/// hit elsewhere, its pairs not searched again) an event would be missed
+/// or come late. The windows cut the motion differently at 0.01, 0.05 and
+/// 0.2 s, so the kept searches differ: the events must not.
+#[test]
+fn kept_event_searches_find_the_same_events_for_any_window() {
+    let mut s = testkit::scene(1.5);
+    s.effects = nudge::scene::Effects {
+        gravity: true,
+        collisions: true,
+        ..Default::default()
+    };
+    let mut rng = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for i in 0..12 {
+        let mut b = body(
+            &format!("ball{i}"),
+            Geometry::sphere(0.08).unwrap(),
+            Vec3::new(
+                -0.9 + 0.6 * (i % 4) as f64,
+                -0.5 + 0.5 * (i / 4) as f64,
+                0.3,
+            ),
+        );
+        b.velocity = Vec3::new(4.0 * next(), 4.0 * next(), 3.0 * next());
+        b.restitution = 1.0;
+        s.bodies.push(b);
+    }
+    s.obstacles.push(ground());
+    for (name, x, y, hx, hy) in [
+        ("east", 1.3, 0.0, 0.05, 1.0),
+        ("west", -1.3, 0.0, 0.05, 1.0),
+        ("north", 0.0, 0.9, 1.4, 0.05),
+        ("south", 0.0, -0.9, 1.4, 0.05),
+    ] {
+        s.obstacles.push(obstacle(
+            name,
+            Geometry::cuboid(Vec3::new(hx, hy, 0.5)).unwrap(),
+            Vec3::new(x, y, 0.5),
+        ));
+    }
+    for i in 0..12 {
+        for j in i + 1..12 {
+            s.pairs.push([i, j]);
+        }
+    }
+    let controls = Controls::new(&s);
+    let events = |window: f64| {
+        let opts = SimOptions {
+            window,
+            ..SimOptions::default()
+        };
+        let tr = simulate(&s, &controls, &opts).expect("simulates");
+        tr.events
+            .iter()
+            .map(|e| (e.t, e.a, format!("{:?}", e.b)))
+            .collect::<Vec<_>>()
+    };
+    let reference = events(0.05);
+    let body_body = reference.iter().filter(|e| e.2.starts_with("Body")).count();
+    assert!(
+        reference.len() > 40 && body_body > 3,
+        "{} events, {body_body} between balls",
+        reference.len()
+    );
+    for window in [0.01, 0.2] {
+        let other = events(window);
+        assert_eq!(other.len(), reference.len(), "window {window}: event count");
+        for (a, b) in reference.iter().zip(&other) {
+            assert_eq!(
+                (a.1, &a.2),
+                (b.1, &b.2),
+                "window {window}: pairs at t = {}",
+                a.0
+            );
+            assert!(
+                (a.0 - b.0).abs() < 1e-9,
+                "window {window}: {} vs {}",
+                a.0,
+                b.0
+            );
+        }
+    }
 }

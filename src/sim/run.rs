@@ -190,6 +190,28 @@ struct Sim<'a> {
     body_pairs: std::collections::HashMap<(usize, usize), usize>,
     obstacle_boxes: Vec<Option<(Vec3, Vec3)>>,
     tol: Tolerances,
+    /// Per pair, what its last event search established; valid while the
+    /// motions it read are unchanged (cleared when either body starts a new
+    /// segment or is re-integrated, and when the pair's own search state
+    /// changes).
+    searched: Vec<Option<Searched>>,
+    /// The indices in `pairs` of each body's pairs.
+    pairs_of: Vec<Vec<usize>>,
+    /// Per body, its swept box from some time up to `end` (so it holds the
+    /// body over any later interval ending by `end`), cleared with its
+    /// searches.
+    swept: Vec<Option<(f64, (Vec3, Vec3))>>,
+}
+
+/// The outcome of a pair's event search from `from`: its first impact
+/// (`hit`), or none before `until`. An impulse elsewhere does not change
+/// it, so after an event only the pairs of the bodies it moved are searched
+/// again: the cost of an event no longer grows with the number of bodies.
+#[derive(Debug, Clone, Copy)]
+struct Searched {
+    from: f64,
+    until: f64,
+    hit: Option<(f64, crate::geometry::Contact)>,
 }
 
 /// Simulate the scene for its current control values. With
@@ -334,6 +356,15 @@ pub fn simulate(
                 Party::Obstacle(_) => None,
             })
             .collect(),
+        searched: vec![None; pairs.len()],
+        swept: vec![None; scene.bodies.len()],
+        pairs_of: (0..scene.bodies.len())
+            .map(|i| {
+                (0..pairs.len())
+                    .filter(|&k| pairs[k].a == i || pairs[k].b == Party::Body(i))
+                    .collect()
+            })
+            .collect(),
         pairs,
         obstacle_boxes,
         tol: Tolerances {
@@ -407,7 +438,15 @@ impl Sim<'_> {
             } else {
                 end
             };
-            match self.next_impact(t, end)? {
+            // Without integrated bodies every state is known in closed form
+            // beyond the window: armed pairs are searched a window further,
+            // so the next events' windows find their searches done.
+            let ahead = if self.cursors.iter().any(Option::is_some) {
+                end
+            } else {
+                (end + window).min(duration)
+            };
+            match self.next_impact(t, end, ahead)? {
                 None => t = end,
                 Some((tc, pair, contact)) => {
                     if std::env::var("NUDGE_DEBUG").is_ok() {
@@ -564,11 +603,22 @@ impl Sim<'_> {
             if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
                 seg.steps.retain(|s| s.t0 < tc);
             }
+            // Re-integrated from `tc` with other steps: its states move by
+            // round-off, so its pairs are searched again.
+            self.forget_searches(i);
             self.cursors[i] = Some(Cursor {
                 q,
                 z: reset_theta(z),
             });
         }
+    }
+
+    /// Drop the searches of body `i`'s pairs: its motion changed.
+    fn forget_searches(&mut self, i: usize) {
+        for &k in &self.pairs_of[i] {
+            self.searched[k] = None;
+        }
+        self.swept[i] = None;
     }
 
     /// The earliest impact in `[t0, t1]`: broad phase, then conservative
@@ -578,6 +628,7 @@ impl Sim<'_> {
         &mut self,
         t0: f64,
         t1: f64,
+        ahead: f64,
     ) -> Result<Option<(f64, usize, crate::geometry::Contact)>, SimError> {
         if self.pairs.is_empty() || t1 <= t0 {
             return Ok(None);
@@ -587,14 +638,29 @@ impl Sim<'_> {
             traj: &self.traj,
         };
         // Re-arm pairs that have separated by more than the arm distance.
-        for p in self.pairs.iter_mut().filter(|p| !p.armed) {
+        for (p, searched) in self.pairs.iter_mut().zip(self.searched.iter_mut()) {
+            if p.armed {
+                continue;
+            }
             match world.contact(p, t0, self.tol.arm) {
                 None => p.armed = true,
                 Some((c, _)) => p.armed = c.distance > self.tol.arm,
             }
+            if p.armed {
+                *searched = None;
+            }
         }
         let n = self.scene.bodies.len();
-        let boxes: Vec<(Vec3, Vec3)> = (0..n).map(|i| world.sweep_box(i, t0, t1)).collect();
+        let boxes: Vec<(Vec3, Vec3)> = (0..n)
+            .map(|i| match self.swept[i] {
+                Some((end, b)) if end >= t1 => b,
+                _ => {
+                    let b = world.sweep_box(i, t0, ahead);
+                    self.swept[i] = Some((ahead, b));
+                    b
+                }
+            })
+            .collect();
         let overlap = |a: &(Vec3, Vec3), b: &(Vec3, Vec3)| {
             (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k])
         };
@@ -641,13 +707,53 @@ impl Sim<'_> {
         for k in candidates {
             let p = &self.pairs[k];
             let limit = best.as_ref().map_or(t1, |b| b.0);
-            let found = world.find_impact(p, t0, limit, &self.tol).map_err(|t| {
-                SimError::EventSearchStalled {
-                    a: self.scene.bodies[p.a].name.clone(),
-                    b: self.party_name(p.b),
-                    t,
+            let stalled = |t| SimError::EventSearchStalled {
+                a: self.scene.bodies[p.a].name.clone(),
+                b: self.party_name(p.b),
+                t,
+            };
+            // An armed pair's search runs to the window's end and stands
+            // while its motions do, so another pair's event does not make
+            // it search again. A disarmed pair is searched afresh, only up
+            // to the best impact so far (its skin may re-arm inside the
+            // search, which a continuation would not see).
+            let cached = self.searched[k].filter(|s| p.armed && s.from <= t0);
+            // Search an armed pair on to `ahead`; a search that stalls past
+            // this window resumes there next time (an event before then may
+            // change the motions), and stops the run only inside it.
+            let ahead_from = |from: f64| match world.find_impact(p, from, ahead, &self.tol) {
+                Ok(found) => Ok((found, ahead)),
+                Err(t) if t > t1 => Ok((None, t)),
+                Err(t) => Err(stalled(t)),
+            };
+            let found = match cached {
+                Some(Searched {
+                    hit: Some((tc, c)), ..
+                }) if tc >= t0 => Some((tc, c)),
+                Some(s) if s.hit.is_none() && s.until >= t1 => None,
+                Some(s) if s.hit.is_none() => {
+                    let (found, until) = ahead_from(s.until)?;
+                    self.searched[k] = Some(Searched {
+                        until,
+                        hit: found,
+                        ..s
+                    });
+                    found
                 }
-            })?;
+                _ if p.armed => {
+                    let (found, until) = ahead_from(t0)?;
+                    self.searched[k] = Some(Searched {
+                        from: t0,
+                        until,
+                        hit: found,
+                    });
+                    found
+                }
+                _ => world
+                    .find_impact(p, t0, limit, &self.tol)
+                    .map_err(stalled)?,
+            }
+            .filter(|(tc, _)| *tc <= limit);
             if let Some((tc, c)) = found
                 && best.as_ref().is_none_or(|b| tc < b.0)
             {
@@ -684,6 +790,7 @@ impl Sim<'_> {
     ) -> Result<(), SimError> {
         let pair = self.pairs[k];
         self.pairs[k].armed = false;
+        self.searched[k] = None;
         let scene = self.scene;
         let a = pair.a;
         let sa = self.traj.state(a, tc, StateSide::After);
@@ -1166,6 +1273,7 @@ impl Sim<'_> {
         slide: Option<Slide>,
     ) {
         let reached = self.opts.tangent && rotation_reached(&j0, self.controls, i);
+        self.forget_searches(i);
         self.traj.tracks[i].segments.push(Segment {
             t0,
             start,
