@@ -182,8 +182,10 @@ impl<const N: usize> JetParty<N> {
         for k in 0..3 {
             let mut col = dy.column_mut(at + 3 + k);
             col += dtheta.column(k);
-            let mut col = dy.column_mut(pm + 1 + k);
-            col -= axes.column(k) * (aty[k] * d_inv[k] * d_inv[k]);
+            if pm + 1 + k < N {
+                let mut col = dy.column_mut(pm + 1 + k);
+                col -= axes.column(k) * (aty[k] * d_inv[k] * d_inv[k]);
+            }
         }
         JetParty {
             v: Vj::input(p.state.v, at + 6),
@@ -381,10 +383,27 @@ impl ImpulseCtx {
     /// rule of [`ImpulseCtx::jacobian_jet`]; with friction, the generic model
     /// is differentiated with dual numbers ([`ImpulseCtx::jacobian_dual`]).
     pub fn jacobian(&self) -> DMatrix<f64> {
+        self.jacobian_with(true)
+    }
+
+    /// As [`ImpulseCtx::jacobian`]; with `params: false` the frictionless
+    /// map is differentiated by the states only (12 or 24 columns): when no
+    /// normal, restitution, mass or inertia of this impact is a control,
+    /// carrying their derivatives would only cost time.
+    pub fn jacobian_with(&self, params: bool) -> DMatrix<f64> {
         if self.friction > 0.0 {
             return self.jacobian_dual();
         }
-        self.jacobian_jet()
+        if params {
+            return self.jacobian_jet();
+        }
+        if self.b.is_some() {
+            let j = self.jet::<24, 12>();
+            DMatrix::from_column_slice(OUTPUTS, 24, j.as_slice())
+        } else {
+            let j = self.jet::<12, 6>();
+            DMatrix::from_column_slice(OUTPUTS, 12, j.as_slice())
+        }
     }
 
     /// The frictionless impulse map differentiated by hand with jets
@@ -648,6 +667,20 @@ mod tests {
             ("crossed edges", edges),
             ("two balls", balls),
         ]
+    }
+
+    /// Differentiated by the states only, the jet gives the state columns
+    /// of the full Jacobian (parameters become constants, whatever they
+    /// are: a controlled normal still tilts the impulse).
+    #[test]
+    fn the_state_only_jet_is_the_full_jets_state_columns() {
+        for (name, ctx) in contexts() {
+            let (full, states) = (ctx.jacobian(), ctx.jacobian_with(false));
+            let n = if ctx.b.is_some() { 24 } else { 12 };
+            assert_eq!(states.shape(), (OUTPUTS, n), "{name}");
+            let err = (full.columns(0, n) - &states).norm() / full.norm();
+            assert!(err < 1e-14, "{name}: {err:.2e}");
+        }
     }
 
     /// The hand-written chain rule agrees with dual numbers through the

@@ -41,10 +41,13 @@ impl<const N: usize> Sj<N> {
         }
     }
 
-    /// The input number `i`, with value `v`.
+    /// The input number `i`, with value `v` (a constant when the jet does
+    /// not carry input `i`: a parameter nothing is differentiated by).
     pub fn input(v: f64, i: usize) -> Self {
         let mut s = Self::constant(v);
-        s.d[i] = 1.0;
+        if i < N {
+            s.d[i] = 1.0;
+        }
         s
     }
 
@@ -106,7 +109,7 @@ impl<const N: usize> Vj<N> {
     /// Inputs `i..i+3`, with value `v`.
     pub fn input(v: Vec3, i: usize) -> Self {
         let mut x = Self::constant(v);
-        for k in 0..3 {
+        for k in (0..3).filter(|k| i + k < N) {
             x.d[(k, i + k)] = 1.0;
         }
         x

@@ -1342,40 +1342,6 @@ impl Sim<'_> {
                 .rows_mut(12, 12)
                 .copy_from(&self.traj.flow(j, pb, false));
         }
-        let jac = ctx.jacobian();
-        let eq = jac.view((0, 0), (1, ns)).into_owned();
-        let denom = (&eq * &fpre)[(0, 0)];
-        // Grazing measure: the cosine between E_q and the configuration part
-        // of F (velocities; E does not depend on them, so including the
-        // accelerations would only mix units into the ratio).
-        let config: f64 = (0..ns)
-            .filter(|r| r % 12 < 6)
-            .map(|r| fpre[r] * fpre[r])
-            .sum::<f64>()
-            .sqrt();
-        let ratio = denom.abs() / (eq.norm() * config);
-        if !ratio.is_finite() {
-            return Err(nonfinite(ratio));
-        }
-        if ratio < self.opts.graze_tol {
-            return Err((
-                TangentError::Grazing {
-                    event: index,
-                    t: tc,
-                    ratio,
-                },
-                ratio,
-            ));
-        }
-        let dt = -(&eq * &jpre) / denom; // 1 × m
-        let mut phi = DMatrix::<f64>::identity(ns, ns);
-        phi.view_mut((6, 0), (6, ns))
-            .copy_from(&jac.view((1, 0), (6, ns)));
-        if ns == 24 {
-            phi.view_mut((18, 0), (6, ns))
-                .copy_from(&jac.view((7, 0), (6, ns)));
-        }
-        let mut jpost = &phi * &jpre + (&phi * &fpre - &fpost) * &dt;
         // Φ_u: event parameters, masses and inertias.
         let p0 = ctx.param_offset();
         let mut params: Vec<(usize, usize)> = Vec::new();
@@ -1405,6 +1371,43 @@ impl Sim<'_> {
                 }
             }
         }
+        let jac = ctx.jacobian_with(params.iter().any(|&(_, c)| c < m));
+        let eq = jac.view((0, 0), (1, ns)).into_owned();
+        let denom = (&eq * &fpre)[(0, 0)];
+        // Grazing measure: the cosine between E_q and the configuration part
+        // of F (velocities; E does not depend on them, so including the
+        // accelerations would only mix units into the ratio).
+        let config: f64 = (0..ns)
+            .filter(|r| r % 12 < 6)
+            .map(|r| fpre[r] * fpre[r])
+            .sum::<f64>()
+            .sqrt();
+        let ratio = denom.abs() / (eq.norm() * config);
+        if !ratio.is_finite() {
+            return Err(nonfinite(ratio));
+        }
+        if ratio < self.opts.graze_tol {
+            return Err((
+                TangentError::Grazing {
+                    event: index,
+                    t: tc,
+                    ratio,
+                },
+                ratio,
+            ));
+        }
+        let dt = -(&eq * &jpre) / denom; // 1 × m
+        // Φ_q is the identity but for the velocity rows of each body (the
+        // impulse changes velocities, not positions): only those rows of
+        // Φ_q J⁻ and Φ_q F⁻ need a product.
+        let mut phi_j = jpre.clone();
+        let mut phi_f = fpre.clone();
+        for (row, jac_row) in std::iter::once((6, 1)).chain((ns == 24).then_some((18, 7))) {
+            let rows = jac.view((jac_row, 0), (6, ns));
+            phi_j.rows_mut(row, 6).copy_from(&(rows * &jpre));
+            phi_f.rows_mut(row, 6).copy_from(&(rows * &fpre));
+        }
+        let mut jpost = phi_j + (phi_f - &fpost) * &dt;
         for (p, c) in params {
             if c >= m {
                 continue;
