@@ -466,6 +466,32 @@ fn nails_and_floating_constraints_hold_typed_values() {
     assert_eq!((u(&e), e.constraints().len()), (before, n));
 }
 
+/// Constraint `i`'s rows `C` against central differences of its residual
+/// (to 1e-6 relative, per control); returns the residual.
+fn rows_match_central_differences(e: &Editor, i: usize) -> nalgebra::DVector<f64> {
+    let c = e.constraints()[i].clone();
+    let (r0, rows) = c.evaluate(e.trajectory(), true).unwrap();
+    let rows = rows.expect("rows");
+    let controls = e.controls().clone();
+    let u0 = controls.values(e.scene());
+    for k in 0..u0.len() {
+        let h = 1e-6;
+        let at = |d: f64| {
+            let mut s = e.scene().clone();
+            let mut u = u0.clone();
+            u[k] += d;
+            controls.write(&mut s, &u);
+            let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
+            c.evaluate(&tr, false).unwrap().0
+        };
+        // r = goal − current, so d(current)/du = −dr/du.
+        let fd = -(at(h) - at(-h)) / (2.0 * h);
+        let err = (rows.column(k) - &fd).norm() / fd.norm().max(1e-3);
+        assert!(err < 1e-6, "constraint {i}, column {k}: {err:.2e}");
+    }
+    r0
+}
+
 /// `:upright`: a tumbling box's z axis is brought straight up at a time,
 /// whatever its turn about the vertical (the yaw is left free), and the
 /// constraint rows match finite differences.
@@ -490,26 +516,7 @@ fn an_upright_constraint_brings_the_z_axis_vertical() {
     })
     .unwrap();
     // Rows against central differences before solving.
-    let c = e.constraints()[0].clone();
-    let (r0, rows) = c.evaluate(e.trajectory(), true).unwrap();
-    let rows = rows.expect("rows");
-    let controls = e.controls().clone();
-    let u0 = controls.values(e.scene());
-    for k in 0..u0.len() {
-        let h = 1e-6;
-        let at = |d: f64| {
-            let mut s = e.scene().clone();
-            let mut u = u0.clone();
-            u[k] += d;
-            controls.write(&mut s, &u);
-            let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
-            c.evaluate(&tr, false).unwrap().0
-        };
-        // r = goal − current, so d(current)/du = −dr/du.
-        let fd = -(at(h) - at(-h)) / (2.0 * h);
-        let err = (rows.column(k) - &fd).norm() / fd.norm().max(1e-3);
-        assert!(err < 1e-6, "column {k}: {err:.2e}");
-    }
+    let r0 = rows_match_central_differences(&e, 0);
     assert!(r0.norm() > 0.1, "tilted to begin with");
     settle(&mut e);
     let st = e.trajectory().state(0, 0.5, StateSide::After);
@@ -542,25 +549,7 @@ fn a_steady_constraint_leaves_only_spin_about_the_vertical() {
     })
     .unwrap();
     assert_eq!(e.constraints()[0].label(), "steady");
-    let c = e.constraints()[0].clone();
-    let (r0, rows) = c.evaluate(e.trajectory(), true).unwrap();
-    let rows = rows.expect("rows");
-    let controls = e.controls().clone();
-    let u0 = controls.values(e.scene());
-    for k in 0..u0.len() {
-        let h = 1e-6;
-        let at = |d: f64| {
-            let mut s = e.scene().clone();
-            let mut u = u0.clone();
-            u[k] += d;
-            controls.write(&mut s, &u);
-            let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
-            c.evaluate(&tr, false).unwrap().0
-        };
-        let fd = -(at(h) - at(-h)) / (2.0 * h);
-        let err = (rows.column(k) - &fd).norm() / fd.norm().max(1e-3);
-        assert!(err < 1e-6, "column {k}: {err:.2e}");
-    }
+    let r0 = rows_match_central_differences(&e, 0);
     assert!(r0.norm() > 0.5, "tumbling to begin with: {r0}");
     settle(&mut e);
     let w = e.trajectory().state(0, 0.5, StateSide::After).w;
