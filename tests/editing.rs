@@ -492,11 +492,9 @@ fn rows_match_central_differences(e: &Editor, i: usize) -> nalgebra::DVector<f64
     r0
 }
 
-/// `:upright`: a tumbling box's z axis is brought straight up at a time,
-/// whatever its turn about the vertical (the yaw is left free), and the
-/// constraint rows match finite differences.
-#[test]
-fn an_upright_constraint_brings_the_z_axis_vertical() {
+/// A lopsided box tumbling with angular velocity `w`, its orientation and
+/// spin free, with a `goal` constraint about the vertical at t = 0.5 s.
+fn tumbling_box(w: Vec3, goal: Vertical) -> Editor {
     let mut s = testkit::scene(1.0);
     s.effects.gyroscopic = true;
     let mut b = body(
@@ -505,16 +503,21 @@ fn an_upright_constraint_brings_the_z_axis_vertical() {
         Vec3::new(0.0, 0.0, 2.0),
     );
     b.orientation = Vec3::new(0.3, -0.2, 0.4);
-    b.angular_velocity = Vec3::new(0.5, 1.0, 0.2);
+    b.angular_velocity = w;
     b.free = vec![Block::Orientation, Block::AngularVelocity];
     s.bodies.push(b);
     let mut e = Editor::new(s, None).unwrap();
     e.apply(Edit::SelectTime(0.5)).unwrap();
-    e.apply(Edit::Vertical {
-        goal: Vertical::Upright,
-        side: None,
-    })
-    .unwrap();
+    e.apply(Edit::Vertical { goal, side: None }).unwrap();
+    e
+}
+
+/// `:upright`: a tumbling box's z axis is brought straight up at a time,
+/// whatever its turn about the vertical (the yaw is left free), and the
+/// constraint rows match finite differences.
+#[test]
+fn an_upright_constraint_brings_the_z_axis_vertical() {
+    let mut e = tumbling_box(Vec3::new(0.5, 1.0, 0.2), Vertical::Upright);
     // Rows against central differences before solving.
     let r0 = rows_match_central_differences(&e, 0);
     assert!(r0.norm() > 0.1, "tilted to begin with");
@@ -530,24 +533,7 @@ fn an_upright_constraint_brings_the_z_axis_vertical() {
 /// to the solver.
 #[test]
 fn a_steady_constraint_leaves_only_spin_about_the_vertical() {
-    let mut s = testkit::scene(1.0);
-    s.effects.gyroscopic = true;
-    let mut b = body(
-        "box",
-        Geometry::cuboid(Vec3::new(0.2, 0.1, 0.05)).unwrap(),
-        Vec3::new(0.0, 0.0, 2.0),
-    );
-    b.orientation = Vec3::new(0.3, -0.2, 0.4);
-    b.angular_velocity = Vec3::new(0.5, 1.0, 2.0);
-    b.free = vec![Block::Orientation, Block::AngularVelocity];
-    s.bodies.push(b);
-    let mut e = Editor::new(s, None).unwrap();
-    e.apply(Edit::SelectTime(0.5)).unwrap();
-    e.apply(Edit::Vertical {
-        goal: Vertical::Steady,
-        side: None,
-    })
-    .unwrap();
+    let mut e = tumbling_box(Vec3::new(0.5, 1.0, 2.0), Vertical::Steady);
     assert_eq!(e.constraints()[0].label(), "steady");
     let r0 = rows_match_central_differences(&e, 0);
     assert!(r0.norm() > 0.5, "tumbling to begin with: {r0}");

@@ -252,6 +252,17 @@ mod tests {
     use crate::tui::widgets::buffer_text;
     use crate::view::ConstraintRow;
 
+    /// The controls panel of `view`, 28 columns by `height` rows, as text.
+    fn controls_text(view: &View, height: u16) -> String {
+        let mut buf = Buffer::empty(Rect::new(0, 0, 28, height));
+        (&ControlsPanel {
+            view,
+            theme: Theme::PLAIN,
+        })
+            .render(buf.area, &mut buf);
+        buffer_text(&buf)
+    }
+
     /// With more controls than rows, the selected body's free controls come
     /// first: Tab to another body brings its controls into view.
     #[test]
@@ -273,13 +284,7 @@ mod tests {
         ];
         for (selected, first) in [(0, "a.p.x"), (1, "b.p.x")] {
             view.selected = selected;
-            let mut buf = Buffer::empty(Rect::new(0, 0, 28, 4));
-            (&ControlsPanel {
-                view: &view,
-                theme: Theme::PLAIN,
-            })
-                .render(buf.area, &mut buf);
-            let text = buffer_text(&buf);
+            let text = controls_text(&view, 4);
             let line = text.lines().nth(2).unwrap_or_default();
             assert!(line.contains(first), "selected {selected}: {text}");
         }
@@ -298,13 +303,7 @@ mod tests {
             scale: 1.0,
         };
         view.controls = vec![row("ball.r.x", 2e-18, -3e-17), row("ball.r.y", 2e-6, 1e-7)];
-        let mut buf = Buffer::empty(Rect::new(0, 0, 28, 4));
-        (&ControlsPanel {
-            view: &view,
-            theme: Theme::PLAIN,
-        })
-            .render(buf.area, &mut buf);
-        let text = buffer_text(&buf);
+        let text = controls_text(&view, 4);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[2], "● ball.r.x      0          1", "\n{text}");
         assert_eq!(lines[3], "● ball.r.y   2e-6  +1e-7   1", "\n{text}");
@@ -328,13 +327,7 @@ mod tests {
     #[test]
     fn controls_at_28_columns() {
         let view = fixtures::view();
-        let mut buf = Buffer::empty(Rect::new(0, 0, 28, 5));
-        (&ControlsPanel {
-            view: &view,
-            theme: Theme::PLAIN,
-        })
-            .render(buf.area, &mut buf);
-        let text = buffer_text(&buf);
+        let text = controls_text(&view, 5);
         let expected = [
             " controls 4/6 free ─────────",
             "  name      value      Δ   M",
