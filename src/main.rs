@@ -7,6 +7,7 @@ use nudge::edit::{Core, Editor};
 use nudge::scene::{self, Scene};
 use nudge::sim::{SimOptions, StateSide, simulate};
 use nudge::tangent::{FiniteDifference, Scheme};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -71,6 +72,15 @@ fn load(path: &Path) -> Result<Scene> {
 
 fn main() {
     if let Err(e) = real_main() {
+        // A closed pipe (`nudge check scene.toml | head`) is the reader's
+        // choice, not a failure: stop quietly, like other Unix tools.
+        let broken_pipe = e.chain().any(|c| {
+            c.downcast_ref::<std::io::Error>()
+                .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+        });
+        if broken_pipe {
+            std::process::exit(0);
+        }
         eprintln!("nudge: {e:#}");
         std::process::exit(1);
     }
@@ -115,6 +125,7 @@ fn real_main() -> Result<()> {
 }
 
 fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
+    let out = &mut std::io::stdout().lock();
     let scene = load(path)?;
     let controls = Controls::new(&scene);
     let start = Instant::now();
@@ -123,26 +134,35 @@ fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
     let elapsed = start.elapsed();
     if json {
         let v = nudge::report::summary(&scene, &controls, &traj, &[], &[]);
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
     } else {
-        print!("{}", nudge::report::text(&scene, &controls, &traj));
-        println!(
+        write!(out, "{}", nudge::report::text(&scene, &controls, &traj))?;
+        writeln!(
+            out,
             "\nsimulated with Jacobians ({} controls) in {:.3} ms",
             controls.m(),
             elapsed.as_secs_f64() * 1e3
-        );
+        )?;
     }
     if jacobian {
-        jacobian_check(&scene, &controls, &traj)?;
+        jacobian_check(out, &scene, &controls, &traj)?;
     }
     Ok(())
 }
 
 /// Largest relative disagreement between the tangent and central-difference
 /// Jacobians, per control block, at the final time and every event.
-fn jacobian_check(scene: &Scene, controls: &Controls, traj: &nudge::sim::Trajectory) -> Result<()> {
+fn jacobian_check(
+    out: &mut impl Write,
+    scene: &Scene,
+    controls: &Controls,
+    traj: &nudge::sim::Trajectory,
+) -> Result<()> {
     if controls.m() == 0 {
-        println!("\njacobian: no free controls (free a block in the scene's `free = [...]`)");
+        writeln!(
+            out,
+            "\njacobian: no free controls (free a block in the scene's `free = [...]`)"
+        )?;
         return Ok(());
     }
     let fd = FiniteDifference::new(scene, controls, Scheme::Central)
@@ -165,12 +185,15 @@ fn jacobian_check(scene: &Scene, controls: &Controls, traj: &nudge::sim::Traject
             None => blocks.push((block, vec![col])),
         }
     }
-    println!("\njacobian: tangent vs central differences (largest relative disagreement)");
-    println!("  {:<34} {:>12} {:>12}", "block", "final", "events");
+    writeln!(
+        out,
+        "\njacobian: tangent vs central differences (largest relative disagreement)"
+    )?;
+    writeln!(out, "  {:<34} {:>12} {:>12}", "block", "final", "events")?;
     for (name, cols) in &blocks {
         let comparable = cols.iter().all(|&c| fd.comparable[c]);
         if !comparable {
-            println!("  {name:<34} {:>12} {:>12}", "n/c", "n/c");
+            writeln!(out, "  {name:<34} {:>12} {:>12}", "n/c", "n/c")?;
             continue;
         }
         let mask: Vec<bool> = (0..controls.m()).map(|c| cols.contains(&c)).collect();
@@ -203,7 +226,8 @@ fn jacobian_check(scene: &Scene, controls: &Controls, traj: &nudge::sim::Traject
                 worst[1] = worst[1].max(nudge::tangent::max_relative_error(&jt, &jf, &mask, 1e-3));
             }
         }
-        println!(
+        writeln!(
+            out,
             "  {name:<34} {:>12.2e} {:>12}",
             worst[0],
             if traj.events.is_empty() {
@@ -211,14 +235,15 @@ fn jacobian_check(scene: &Scene, controls: &Controls, traj: &nudge::sim::Traject
             } else {
                 format!("{:.2e}", worst[1])
             }
-        );
+        )?;
     }
     if let Some(e) = traj.tangent_error {
-        println!("  note: {e}");
+        writeln!(out, "  note: {e}")?;
     }
-    println!(
+    writeln!(
+        out,
         "  (n/c: u ± h changes the collision sequence, so the difference quotient is not comparable)"
-    );
+    )?;
     Ok(())
 }
 

@@ -817,3 +817,26 @@ fn check_jacobian_compares_events_at_their_own_times() {
         );
     }
 }
+
+/// `nudge check scene.toml | head` closes the pipe before nudge is done
+/// writing; nudge used to panic there ("failed printing to stdout") with a
+/// backtrace on the user's terminal. A closed pipe is the reader's choice:
+/// nudge stops quietly and successfully.
+#[test]
+fn check_into_a_closed_pipe_stops_quietly() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_nudge"))
+        .args(["check", "--jacobian"])
+        .arg(root.join("scenes/eggs.toml"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("runs nudge");
+    // Close the reading end before nudge has loaded the scene, so its first
+    // write meets a closed pipe.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("nudge finishes");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "exit {:?}: {stderr}", out.status);
+    assert!(stderr.is_empty(), "nothing on stderr, got: {stderr}");
+}
