@@ -14,8 +14,35 @@ use nalgebra::UnitQuaternion;
 
 /// Size of the integrated vector: `w` (3), `θ` (3), `Y` (6×9).
 pub const Z_LEN: usize = 60;
+/// Size with the transition block of `Y` only (its first 6 columns).
+pub const Z_TRANSITION: usize = 42;
 /// Size without the tangent.
 pub const Z_STATE: usize = 6;
+
+/// Which columns of the tangent `Y` a rotation integrates: none (no free
+/// control reaches the rotation), the 6 of the state transition, or those
+/// and the 3 of the principal inertia (only when the inertia is free: its
+/// columns are a third of the variational work).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Columns {
+    /// The state only.
+    None,
+    /// `∂(η, δw)/∂(η₀, δw₀)`.
+    Transition,
+    /// The transition and `∂(η, δw)/∂I`.
+    WithInertia,
+}
+
+impl Columns {
+    /// Length of the integrated vector.
+    pub fn vector_len(self) -> usize {
+        match self {
+            Columns::None => Z_STATE,
+            Columns::Transition => Z_TRANSITION,
+            Columns::WithInertia => Z_LEN,
+        }
+    }
+}
 
 /// Euler's equations for torque-free motion: `ẇ = −I⁻¹ (w × I w)` (body frame).
 pub fn euler_rhs(inertia: &Mat3, inertia_inv: &Mat3, w: &Vec3) -> Vec3 {
@@ -26,7 +53,8 @@ fn vec3(z: &[f64], at: usize) -> Vec3 {
     Vec3::new(z[at], z[at + 1], z[at + 2])
 }
 
-/// Right-hand side of the integrated system. `len` is `Z_STATE` or `Z_LEN`.
+/// Right-hand side of the integrated system; `z` has one of the lengths of
+/// [`Columns`].
 pub fn rhs(d: &BodyDynamics, z: &[f64], dz: &mut [f64]) {
     let w = vec3(z, 0);
     let theta = vec3(z, 3);
@@ -35,14 +63,14 @@ pub fn rhs(d: &BodyDynamics, z: &[f64], dz: &mut [f64]) {
     dz[0..3].copy_from_slice(f.as_slice());
     let th = right_jacobian_inv(&theta) * w;
     dz[3..6].copy_from_slice(th.as_slice());
-    if z.len() < Z_LEN {
+    if z.len() < Z_TRANSITION {
         return;
     }
     // Df(w) δw = −I⁻¹ (δw × I w + w × I δw) = −I⁻¹ ([w]× I − [I w]×) δw.
     let df = -(d.inertia_inv * (skew(&w) * d.inertia - skew(&iw)));
     let sw = skew(&w);
     // Y is 6×9 column-major at z[6..]: column c occupies z[6 + 6c .. 6 + 6c + 6].
-    for c in 0..9 {
+    for c in 0..(z.len() - Z_STATE) / 6 {
         let base = 6 + 6 * c;
         let eta = vec3(z, base);
         let dw = vec3(z, base + 3);
@@ -61,10 +89,10 @@ pub fn rhs(d: &BodyDynamics, z: &[f64], dz: &mut [f64]) {
 }
 
 /// Initial integrated vector for body-frame angular velocity `w`.
-pub fn initial(w: &Vec3, tangent: bool) -> Vec<f64> {
-    let mut z = vec![0.0; if tangent { Z_LEN } else { Z_STATE }];
+pub fn initial(w: &Vec3, columns: Columns) -> Vec<f64> {
+    let mut z = vec![0.0; columns.vector_len()];
     z[0..3].copy_from_slice(w.as_slice());
-    if tangent {
+    if columns != Columns::None {
         for i in 0..6 {
             z[6 + 6 * i + i] = 1.0;
         }
@@ -245,7 +273,7 @@ pub fn free_rotation(
     steps: usize,
     mut visit: impl FnMut(usize, &UnitQuaternion<f64>, &Vec3),
 ) -> (UnitQuaternion<f64>, Vec3) {
-    let mut z = initial(w, false);
+    let mut z = initial(w, Columns::None);
     let mut evals = 0;
     for k in 0..steps {
         let step = step_rk4(d, k as f64 * h, q, z, h, &mut evals);
@@ -383,12 +411,14 @@ impl Step {
     }
 }
 
-/// The 6×9 tangent block `Y` of an integrated vector.
+/// The 6×9 tangent block `Y` of an integrated vector (columns it does not
+/// integrate are zero).
 pub fn tangent_block(z: &[f64]) -> nalgebra::SMatrix<f64, 6, 9> {
-    if z.len() < Z_LEN {
-        return nalgebra::SMatrix::<f64, 6, 9>::zeros();
+    let mut y = nalgebra::SMatrix::<f64, 6, 9>::zeros();
+    if z.len() >= Z_TRANSITION {
+        y.as_mut_slice()[..z.len() - Z_STATE].copy_from_slice(&z[Z_STATE..]);
     }
-    nalgebra::SMatrix::<f64, 6, 9>::from_column_slice(&z[6..Z_LEN])
+    y
 }
 
 /// Body-frame angular velocity of an integrated vector.
@@ -421,7 +451,7 @@ mod tests {
     fn variational_rhs_matches_central_differences() {
         let d = top();
         let w = Vec3::new(0.3, -1.1, 0.7);
-        let z = initial(&w, true);
+        let z = initial(&w, Columns::WithInertia);
         let mut dz = vec![0.0; Z_LEN];
         rhs(&d, &z, &mut dz);
         let y = tangent_block(&dz);
@@ -458,7 +488,7 @@ mod tests {
     #[test]
     fn dopri_dense_output_is_consistent() {
         let d = top();
-        let z0 = initial(&Vec3::new(0.3, 2.0, 0.1), false);
+        let z0 = initial(&Vec3::new(0.3, 2.0, 0.1), Columns::None);
         let mut evals = 0;
         let (st, err) = step_dopri(
             &d,

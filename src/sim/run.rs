@@ -163,6 +163,23 @@ fn rotation_reached(j0: &DMatrix<f64>, controls: &Controls, i: usize) -> bool {
             .any(|v| *v != 0.0)
 }
 
+/// The tangent columns body `i`'s rotation integrates in a segment that
+/// starts with Jacobian `j0` (see [`rotation_reached`]).
+fn rotation_columns(
+    opts: &SimOptions,
+    j0: &DMatrix<f64>,
+    controls: &Controls,
+    i: usize,
+) -> integrator::Columns {
+    if !opts.tangent || !rotation_reached(j0, controls, i) {
+        integrator::Columns::None
+    } else if controls.body_column(i, Block::Inertia).is_some() {
+        integrator::Columns::WithInertia
+    } else {
+        integrator::Columns::Transition
+    }
+}
+
 fn initial_jacobian(scene: &Scene, controls: &Controls, i: usize, m: usize) -> DMatrix<f64> {
     let mut j = DMatrix::zeros(12, m);
     let b = &scene.bodies[i];
@@ -253,10 +270,10 @@ pub fn simulate(
                 steps: Vec::new(),
             }],
         });
-        let reached = opts.tangent && rotation_reached(&tracks[i].segments[0].j0, controls, i);
+        let columns = rotation_columns(opts, &tracks[i].segments[0].j0, controls, i);
         cursors.push(dynamics[i].integrate.then(|| Cursor {
             q,
-            z: integrator::initial(&(q.inverse() * b.angular_velocity), reached),
+            z: integrator::initial(&(q.inverse() * b.angular_velocity), columns),
         }));
     }
     let col = |i: usize, b: Block| {
@@ -1272,7 +1289,7 @@ impl Sim<'_> {
         rest: bool,
         slide: Option<Slide>,
     ) {
-        let reached = self.opts.tangent && rotation_reached(&j0, self.controls, i);
+        let columns = rotation_columns(&self.opts, &j0, self.controls, i);
         self.forget_searches(i);
         self.traj.tracks[i].segments.push(Segment {
             t0,
@@ -1286,7 +1303,7 @@ impl Sim<'_> {
         self.cursors[i] =
             (self.traj.dynamics[i].integrate && !rest && slide.is_none()).then(|| Cursor {
                 q: start.q,
-                z: integrator::initial(&(start.q.inverse() * start.w), reached),
+                z: integrator::initial(&(start.q.inverse() * start.w), columns),
             });
     }
 
