@@ -466,13 +466,6 @@ impl Sim<'_> {
             match self.next_impact(t, end, ahead)? {
                 None => t = end,
                 Some((tc, pair, contact)) => {
-                    if std::env::var("NUDGE_DEBUG").is_ok() {
-                        eprintln!(
-                            "impact t={tc} pair={pair} d={} events={}",
-                            contact.distance,
-                            self.traj.events.len()
-                        );
-                    }
                     self.truncate(tc);
                     frontier = tc;
                     self.impact(tc, pair, &contact)?;
