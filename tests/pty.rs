@@ -3,29 +3,39 @@
 //! terminal (leaves the alternate screen).
 
 use std::io::Write;
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-#[test]
-fn the_editor_runs_in_a_pseudo_terminal_and_quits_cleanly() {
+/// Run `shell` (a `sh` command line; `$NUDGE` is the binary and `$SCENE`
+/// the bounce scene) in an 80×24 pseudo-terminal allocated by util-linux
+/// `script`, with every stream piped.
+fn in_pty(shell: &str) -> Child {
     if Command::new("script").arg("--version").output().is_err() {
         // util-linux `script` allocates the pty; every CI machine here has it.
         panic!("the `script` command (util-linux) is needed for this test");
     }
-    let bin = env!("CARGO_BIN_EXE_nudge");
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bounce.toml");
-    let mut child = Command::new("script")
+    Command::new("script")
         .args([
             "-qfec",
-            &format!("stty cols 80 rows 24; {bin} {scene}"),
+            &format!("stty cols 80 rows 24; {shell}"),
             "/dev/null",
         ])
         .env("TERM", "xterm")
+        .env("NUDGE", env!("CARGO_BIN_EXE_nudge"))
+        .env(
+            "SCENE",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bounce.toml"),
+        )
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .expect("spawn script");
+        .expect("spawn script")
+}
+
+#[test]
+fn the_editor_runs_in_a_pseudo_terminal_and_quits_cleanly() {
+    let mut child = in_pty(r#""$NUDGE" "$SCENE""#);
     let mut stdin = child.stdin.take().expect("stdin");
     let pause = |ms| std::thread::sleep(Duration::from_millis(ms));
     pause(1500);
@@ -68,20 +78,9 @@ fn the_editor_runs_in_a_pseudo_terminal_and_quits_cleanly() {
 /// terminal unusable. It now restores the terminal and exits with an error.
 #[test]
 fn regression_a_terminated_editor_left_the_terminal_in_raw_mode() {
-    let bin = env!("CARGO_BIN_EXE_nudge");
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bounce.toml");
-    let child = Command::new("script")
-        .args([
-            "-qfec",
-            &format!("stty cols 80 rows 24; {bin} {scene} & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid; echo \"exit=$?\""),
-            "/dev/null",
-        ])
-        .env("TERM", "xterm")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn script");
+    let child = in_pty(
+        r#""$NUDGE" "$SCENE" & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid; echo "exit=$?""#,
+    );
     let out = child.wait_with_output().expect("wait");
     let text = String::from_utf8_lossy(&out.stdout);
     let entered = text
