@@ -213,20 +213,28 @@ pub fn part_contacts(
     pose_b: &Isometry3<f64>,
     max_distance: f64,
 ) -> Vec<Contact> {
-    let mut out = Vec::new();
-    for (ia, pa) in a.parts.iter().enumerate() {
-        for (ib, pb) in b.parts.iter().enumerate() {
-            if let Some(mut c) = part_contact(pa, pose_a, pb, pose_b, max_distance)
-                && c.distance.is_finite()
-                && c.normal.iter().all(|v| v.is_finite())
-            {
-                c.part_a = ia;
-                c.part_b = ib;
-                out.push(c);
+    finite_part_contacts(a, pose_a, b, pose_b, max_distance).collect()
+}
+
+/// The finite part contacts closer than `max_distance`, in part order.
+fn finite_part_contacts<'g>(
+    a: &'g Geometry,
+    pose_a: &'g Isometry3<f64>,
+    b: &'g Geometry,
+    pose_b: &'g Isometry3<f64>,
+    max_distance: f64,
+) -> impl Iterator<Item = Contact> + 'g {
+    a.parts.iter().enumerate().flat_map(move |(ia, pa)| {
+        b.parts.iter().enumerate().filter_map(move |(ib, pb)| {
+            let mut c = part_contact(pa, pose_a, pb, pose_b, max_distance)?;
+            if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
+                return None;
             }
-        }
-    }
-    out
+            c.part_a = ia;
+            c.part_b = ib;
+            Some(c)
+        })
+    })
 }
 
 /// A point of one geometry close to another (see [`near_points`]).
@@ -574,22 +582,9 @@ pub fn contact(
     pose_b: &Isometry3<f64>,
     max_distance: f64,
 ) -> Option<Contact> {
-    let mut best: Option<Contact> = None;
-    for (ia, pa) in a.parts.iter().enumerate() {
-        for (ib, pb) in b.parts.iter().enumerate() {
-            if let Some(mut c) = part_contact(pa, pose_a, pb, pose_b, max_distance) {
-                if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
-                    continue;
-                }
-                c.part_a = ia;
-                c.part_b = ib;
-                if best.is_none_or(|b| c.distance < b.distance) {
-                    best = Some(c);
-                }
-            }
-        }
-    }
-    best
+    // The first of equally close part pairs.
+    finite_part_contacts(a, pose_a, b, pose_b, max_distance)
+        .min_by(|x, y| x.distance.total_cmp(&y.distance))
 }
 
 #[cfg(test)]
