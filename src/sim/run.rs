@@ -147,36 +147,34 @@ fn reset_theta(mut z: Vec<f64>) -> Vec<f64> {
     z
 }
 
-/// Whether any free control reaches body `i`'s rotation in a segment that
-/// starts with Jacobian `j0`: its orientation or angular-velocity rows are
-/// not all zero, or its inertia is free. Otherwise those rows stay zero to
-/// the segment's end (in free flight the rotation depends only on its own
-/// start and the inertia), and the variational equation is not integrated
+/// The tangent columns body `i`'s rotation integrates in a segment that
+/// starts with Jacobian `j0`. With its inertia free, all of them. Otherwise
+/// a control reaches the rotation only through the orientation and
+/// angular-velocity rows of `j0`; where those are all zero they stay zero
+/// to the segment's end (in free flight the rotation depends only on its
+/// own start and the inertia), and no variational equation is integrated
 /// there: the segment costs what a plain simulation costs (`tangent_block`
 /// of the shorter vector is zero, which is then exact).
-fn rotation_reached(j0: &DMatrix<f64>, controls: &Controls, i: usize) -> bool {
-    controls.body_column(i, Block::Inertia).is_some()
-        || j0
-            .rows(3, 3)
-            .iter()
-            .chain(j0.rows(9, 3).iter())
-            .any(|v| *v != 0.0)
-}
-
-/// The tangent columns body `i`'s rotation integrates in a segment that
-/// starts with Jacobian `j0` (see [`rotation_reached`]).
 fn rotation_columns(
     opts: &SimOptions,
     j0: &DMatrix<f64>,
     controls: &Controls,
     i: usize,
 ) -> integrator::Columns {
-    if !opts.tangent || !rotation_reached(j0, controls, i) {
+    let reached = || {
+        j0.rows(3, 3)
+            .iter()
+            .chain(j0.rows(9, 3).iter())
+            .any(|v| *v != 0.0)
+    };
+    if !opts.tangent {
         integrator::Columns::None
     } else if controls.body_column(i, Block::Inertia).is_some() {
         integrator::Columns::WithInertia
-    } else {
+    } else if reached() {
         integrator::Columns::Transition
+    } else {
+        integrator::Columns::None
     }
 }
 
