@@ -91,10 +91,10 @@ pub enum Method {
     Adaptive { tol: f64, max_step: f64 },
 }
 
-/// Accuracy settings: the integrator and the collision root tolerance.
 /// Most fixed steps a motion may take (see [`Accuracy::problem`]).
 pub const MAX_RK4_STEPS: f64 = 1e6;
 
+/// Accuracy settings: the integrator and the collision root tolerance.
 /// Tighter settings are more accurate and cost more time (`nudge bench`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Accuracy {
