@@ -63,27 +63,30 @@ impl HelpPopup {
         }
         lines
     }
-}
 
-impl HelpPopup {
+    /// Where the popup sits on a screen of `area`.
+    fn popup(area: Rect) -> Rect {
+        let width = area.width.saturating_sub(4).min(100);
+        let height = area.height.saturating_sub(2);
+        Rect {
+            x: area.x + (area.width - width) / 2,
+            y: area.y + (area.height - height) / 2,
+            width,
+            height,
+        }
+    }
+
     /// How far the popup can scroll on a screen of `area` (the last line at
     /// the bottom).
     pub fn max_scroll(area: Rect) -> u16 {
-        let visible = area.height.saturating_sub(4);
+        let visible = Block::bordered().inner(HelpPopup::popup(area)).height;
         (HelpPopup::lines(Theme::PLAIN).len() as u16).saturating_sub(visible)
     }
 }
 
 impl Widget for &HelpPopup {
     fn render(self, area: Rect, buf: &mut Buffer) {
-        let width = area.width.saturating_sub(4).min(100);
-        let height = area.height.saturating_sub(2);
-        let popup = Rect {
-            x: area.x + (area.width - width) / 2,
-            y: area.y + (area.height - height) / 2,
-            width,
-            height,
-        };
+        let popup = HelpPopup::popup(area);
         let lines = HelpPopup::lines(self.theme);
         let block = Block::bordered()
             .border_style(self.theme.border())
@@ -91,12 +94,10 @@ impl Widget for &HelpPopup {
                 " keys: j/k scroll, ? or Esc closes ",
                 self.theme.title(),
             ));
-        let visible = block.inner(popup).height;
-        let max_scroll = (lines.len() as u16).saturating_sub(visible);
         Clear.render(popup, buf);
         Paragraph::new(lines)
             .block(block)
-            .scroll((self.scroll.min(max_scroll), 0))
+            .scroll((self.scroll.min(HelpPopup::max_scroll(area)), 0))
             .render(popup, buf);
     }
 }
