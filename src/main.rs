@@ -210,19 +210,13 @@ fn jacobian_check(
         // a fixed-time quotient there would straddle the jump), against
         // J + F dt_c/du.
         for (k, e) in traj.events.iter().enumerate() {
-            let Some(dt) = e.dt_du.as_ref() else {
-                continue;
-            };
-            for (side, s) in [
-                (StateSide::Before, &e.pre[0]),
-                (StateSide::After, &e.post[0]),
-            ] {
-                let (Ok(j), Some(jf)) = (traj.jacobian(e.a, e.t, side), fd.at_event(k, e.a, side))
-                else {
+            for side in [StateSide::Before, StateSide::After] {
+                let (Ok(jt), Some(jf)) = (
+                    traj.jacobian_at_event(e.a, e, side),
+                    fd.at_event(k, e.a, side),
+                ) else {
                     continue;
                 };
-                let f = traj.flow(e.a, s, e.rest && side == StateSide::After);
-                let jt = j + f * dt.transpose();
                 worst[1] = worst[1].max(nudge::tangent::max_relative_error(&jt, &jf, &mask, 1e-3));
             }
         }

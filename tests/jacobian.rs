@@ -42,13 +42,9 @@ fn check(scene: &Scene, times: &[f64], tol: f64) -> f64 {
         // Floating quantities: the state at each run's own event time.
         for side in [StateSide::Before, StateSide::After] {
             let fl = fd.at_event(k, ev.a, side).expect("same events");
-            let s = match side {
-                StateSide::Before => ev.pre[0],
-                StateSide::After => ev.post[0],
-            };
-            let f = tr.flow(ev.a, &s, ev.rest && side == StateSide::After);
-            let dt = ev.dt_du.as_ref().expect("dt/du");
-            let jt = tr.jacobian(ev.a, ev.t, side).expect("jacobian") + &f * dt.transpose();
+            let jt = tr
+                .jacobian_at_event(ev.a, ev, side)
+                .expect("jacobian and dt/du");
             let err = max_relative_error(&jt, &fl, &fd.comparable, 1e-3);
             assert!(
                 err < tol,
@@ -166,13 +162,9 @@ fn check_resolved(scene: &Scene, times: &[f64], tol: f64) {
     let (mut checked, mut total) = (0, 0);
     for (k, ev) in tr.events.iter().enumerate() {
         for side in [StateSide::Before, StateSide::After] {
-            let s = match side {
-                StateSide::Before => ev.pre[0],
-                StateSide::After => ev.post[0],
-            };
-            let f = tr.flow(ev.a, &s, ev.rest && side == StateSide::After);
-            let dt = ev.dt_du.as_ref().expect("dt/du");
-            let jt = tr.jacobian(ev.a, ev.t, side).expect("jacobian") + &f * dt.transpose();
+            let jt = tr
+                .jacobian_at_event(ev.a, ev, side)
+                .expect("jacobian and dt/du");
             let quotients: Vec<_> = runs
                 .iter()
                 .filter_map(|fd| {

@@ -285,6 +285,27 @@ impl Trajectory {
         }
     }
 
+    /// Jacobian of `body`'s state at the (floating) time of `event`, just
+    /// before or after it: the event moves with the controls, so this is
+    /// `J(t_c) + F dt_c/du`, the derivative of the state at each run's own
+    /// event time (a floating constraint's rows; what central differences
+    /// of the states at the perturbed runs' events approximate).
+    pub fn jacobian_at_event(
+        &self,
+        body: usize,
+        event: &Event,
+        side: StateSide,
+    ) -> Result<DMatrix<f64>, TangentError> {
+        let j = self.jacobian(body, event.t, side)?;
+        let dt = event
+            .dt_du
+            .as_ref()
+            .ok_or(self.tangent_error.unwrap_or(TangentError::NotComputed))?;
+        let state = self.state(body, event.t, side);
+        let f = self.flow(body, &state, self.resting(body, event.t, side));
+        Ok(j + f * dt.transpose())
+    }
+
     fn segment_jacobian(&self, body: usize, seg: &Segment, t: f64) -> DMatrix<f64> {
         let m = self.m;
         let j0 = &seg.j0;

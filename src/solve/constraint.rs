@@ -154,13 +154,7 @@ impl Constraint {
                 };
                 let state = traj.state(body, e.t, s);
                 let jac = if with_jac {
-                    let j = traj.jacobian(body, e.t, s)?;
-                    let resting = traj.resting(body, e.t, s);
-                    let f = traj.flow(body, &state, resting);
-                    let dt = e.dt_du.as_ref().ok_or(ConstraintError::Tangent(
-                        traj.tangent_error.unwrap_or(TangentError::NotComputed),
-                    ))?;
-                    Some(j + f * dt.transpose())
+                    Some(traj.jacobian_at_event(body, e, s)?)
                 } else {
                     None
                 };
