@@ -24,7 +24,7 @@ mod trajectory;
 
 pub use dynamics::BodyDynamics;
 pub use flight::{Translation, translation};
-pub use impulse::{ImpulseCtx, ImpulseResult};
+pub use impulse::{FrictionMode, ImpulseCtx, ImpulseResult};
 pub use integrator::{euler_rhs, free_rotation};
 pub use rest::Slide;
 pub use run::{SimError, SimOptions, simulate};

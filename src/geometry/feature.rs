@@ -88,6 +88,13 @@ pub struct ContactGeometry<T: RealField> {
     pub point_a: Vector3<T>,
     /// Contact point on b, world.
     pub point_b: Vector3<T>,
+    /// Torsional friction radius of a contact patch (m): the root mean
+    /// square distance of its weighted corners from the impulse point, in
+    /// the contact plane. Coulomb friction at the corners resists a spin
+    /// about the normal with a torque of at most `μ · spin_radius · P_n`
+    /// (exact when every corner slides and carries the same load). 0 for a
+    /// contact at one point, which resists no spin.
+    pub spin_radius: T,
 }
 
 fn cv<T: RealField>(v: &Vec3) -> Vector3<T> {
@@ -481,11 +488,13 @@ impl FeaturePair {
         if !self.patch.is_empty() {
             let mut sum = Vector3::<T>::zeros();
             let mut total = T::zero();
+            let mut weighted = Vec::with_capacity(self.patch.len());
             for corner in &self.patch {
                 let (h, c) = corner.height(pa, pb);
                 let w = corner_weight(h, self.patch_depth);
-                sum += c * w.clone();
-                total += w;
+                sum += &c * w.clone();
+                total += w.clone();
+                weighted.push((w, c));
             }
             if let Some((on_a, normal)) = &self.patch_face {
                 // The face's normal, pointing from b towards a.
@@ -496,7 +505,19 @@ impl FeaturePair {
                 };
             }
             if total > T::zero() {
-                let centroid = sum / total;
+                let centroid = sum / total.clone();
+                let mut spread = T::zero();
+                for (w, c) in &weighted {
+                    let d = c - &centroid;
+                    let along = geo.normal.dot(&d);
+                    spread += w.clone() * (d.norm_squared() - along.clone() * along);
+                }
+                let mean_square = spread / total;
+                // Below (1 µm)² the patch is a point: no torsional lever, and
+                // the square root's derivative would blow up at 0.
+                if mean_square > convert(1e-12) {
+                    geo.spin_radius = mean_square.sqrt();
+                }
                 geo.point_b = &centroid - &geo.normal * geo.distance.clone();
                 geo.point_a = centroid;
             }
@@ -521,6 +542,7 @@ impl FeaturePair {
                     normal: n,
                     point_a,
                     point_b,
+                    spin_radius: T::zero(),
                 }
             }
             (Plane { normal, point, .. }, Point { p, radius, .. }) => {
@@ -536,6 +558,7 @@ impl FeaturePair {
                     normal: -m,
                     point_a,
                     point_b,
+                    spin_radius: T::zero(),
                 }
             }
             (
@@ -559,6 +582,7 @@ impl FeaturePair {
                     normal: n,
                     point_a,
                     point_b,
+                    spin_radius: T::zero(),
                 }
             }
             (Point { p, radius, .. }, Line { point, dir, .. }) => {
@@ -576,6 +600,7 @@ impl FeaturePair {
                     normal: n,
                     point_a,
                     point_b: foot,
+                    spin_radius: T::zero(),
                 }
             }
             (Line { point, dir, .. }, Point { p, radius, .. }) => {
@@ -593,6 +618,7 @@ impl FeaturePair {
                     normal: n,
                     point_a: foot,
                     point_b,
+                    spin_radius: T::zero(),
                 }
             }
             (
@@ -620,6 +646,7 @@ impl FeaturePair {
                     normal: n,
                     point_a: &qa + &da * s,
                     point_b: &qb + &db * t,
+                    spin_radius: T::zero(),
                 }
             }
             (
@@ -678,6 +705,7 @@ impl FeaturePair {
                     point_a: &c - &n * rho,
                     normal: n,
                     point_b: foot_w,
+                    spin_radius: T::zero(),
                 }
             }
             // `classify` never produces the remaining combinations; fall back
@@ -693,6 +721,7 @@ impl FeaturePair {
                     normal: n,
                     point_a: ca,
                     point_b: cb,
+                    spin_radius: T::zero(),
                 }
             }
         }

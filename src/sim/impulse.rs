@@ -49,13 +49,26 @@ pub struct ImpulseCtx {
     pub tangent_axis: Vec3,
     /// Coulomb coefficient; 0 means frictionless (friction never evaluated).
     pub friction: f64,
-    /// Friction mode (decided by [`ImpulseCtx::apply`]): sticking or sliding.
-    pub stick: bool,
+    /// Friction mode, decided by [`ImpulseCtx::apply`].
+    pub mode: FrictionMode,
     /// A micro-collision (see `sim::rest`): when set to `v` (m/s), the
     /// contact leaves at `max(−v_n, v)` — elastically, or at `v` when it
     /// approached slower — instead of at `−e v_n`. Restitution then has no
     /// effect, and the dual-number Jacobian differentiates this map.
     pub min_separation: Option<f64>,
+}
+
+/// How friction acts at an impact (only with the `friction` effect).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FrictionMode {
+    /// The tangential impulse stops the contact's sliding (inside the
+    /// cone `|P_t| ≤ μ P_n`); else it pushes against the sliding at the
+    /// cone's edge.
+    pub stick: bool,
+    /// A contact patch's couple stops the relative spin about the normal
+    /// (within `|τ| ≤ μ ρ P_n`); else it opposes the spin at that limit.
+    /// Meaningless at a one-point contact, which resists no spin.
+    pub spin_stick: bool,
 }
 
 /// The applied impulse.
@@ -236,9 +249,12 @@ impl ImpulseCtx {
         if self.b.is_some() { 24 } else { 12 }
     }
 
-    /// The impulse model: `[E, v_a⁺, ω_a⁺, v_b⁺, ω_b⁺]`; with `decide`, also
-    /// returns whether the sticking impulse lies in the friction cone.
-    fn model<T: RealField>(&self, z: &[T], mode: Option<bool>) -> (Vec<T>, bool) {
+    /// The impulse model: `[E, v_a⁺, ω_a⁺, v_b⁺, ω_b⁺]`, in the friction
+    /// `mode` given, or (with `None`) the one it decides: the first of
+    /// stick/stick, stick/slide, slide/stick, slide/slide (impulse/spin)
+    /// whose impulse lies in its friction cone and whose couple within its
+    /// limit.
+    fn model<T: RealField>(&self, z: &[T], mode: Option<FrictionMode>) -> (Vec<T>, FrictionMode) {
         let p0 = self.param_offset();
         let a = moving(&self.a, z, 0, p0 + 3);
         let b = self.b.as_ref().map(|b| moving(b, z, 12, p0 + 7));
@@ -280,54 +296,174 @@ impl ImpulseCtx {
             Some(v) => c(v),
             None => -(e * vn.clone()),
         };
-        let mut stick = false;
-        let p = if self.friction > 0.0 {
+        let mut decided = FrictionMode::default();
+        let (p, tau) = if self.friction > 0.0 {
             let mu: T = c(self.friction);
-            let target = &n * sep.clone();
-            let k_inv = k.clone().try_inverse().unwrap_or_else(Matrix3::zeros);
-            let p_stick = k_inv * (target - &v_rel);
-            let pn = n.dot(&p_stick);
-            let pt = &p_stick - &n * pn.clone();
-            stick = match mode {
-                Some(s) => s,
-                None => pt.norm() <= mu.clone() * pn.clone(),
-            };
+            let target = &n * sep.clone() - &v_rel;
             let vt = &v_rel - &n * vn.clone();
             let vt_norm = vt.norm();
-            if stick || vt_norm == T::zero() {
-                p_stick
+            // Sliding impulses push against the tangential velocity before
+            // the impact: `P = P_n (n − μ t̂)`.
+            let slide_dir = if vt_norm == T::zero() {
+                None
             } else {
-                let dir = &n - (vt / vt_norm) * mu;
-                let pn = (sep - vn.clone()) / n.dot(&(&k * &dir));
-                dir * pn
+                Some(&n - (vt / vt_norm) * mu.clone())
+            };
+            let rho = geo.spin_radius.clone();
+            let cone = |p: &Vector3<T>| {
+                let pn = n.dot(p);
+                (p - &n * pn.clone()).norm() <= mu.clone() * pn
+            };
+            if rho > T::zero() {
+                // A contact patch also resists spin about its normal: a
+                // couple `τ n` with `|τ| ≤ μ ρ P_n` (the patch's torsional
+                // radius ρ). The couple and the impulse are coupled
+                // through `K₄ = [[K, k], [kᵀ, k_ττ]]`: `Δu = K P + k τ`
+                // (contact velocity) and `Δs = kᵀ P + k_ττ τ` (relative
+                // spin about `n`).
+                let ia_n = &a.inv_inertia * &n;
+                let mut k_ut = -(&sra * &ia_n);
+                let mut k_tt = n.dot(&ia_n);
+                let mut spin = n.dot(&a.w);
+                if let Some(m) = &b {
+                    let ib_n = &m.inv_inertia * &n;
+                    k_ut -= skew(&rb) * &ib_n;
+                    k_tt += n.dot(&ib_n);
+                    spin -= n.dot(&m.w);
+                }
+                let sigma = if spin > T::zero() {
+                    T::one()
+                } else if spin < T::zero() {
+                    -T::one()
+                } else {
+                    T::zero()
+                };
+                // The spin couple's limit per unit normal impulse, signed to
+                // oppose the spin.
+                let g = -(sigma * mu.clone() * rho.clone());
+                let torque_ok =
+                    |tau: &T, pn: &T| tau.clone().abs() <= mu.clone() * rho.clone() * pn.clone();
+                // 1. Sticking in both.
+                let stick_stick = || {
+                    let mut k4 = nalgebra::Matrix4::<T>::zeros();
+                    k4.fixed_view_mut::<3, 3>(0, 0).copy_from(&k);
+                    k4.fixed_view_mut::<3, 1>(0, 3).copy_from(&k_ut);
+                    k4.fixed_view_mut::<1, 3>(3, 0).copy_from(&k_ut.transpose());
+                    k4[(3, 3)] = k_tt.clone();
+                    let rhs = nalgebra::Vector4::new(
+                        target.x.clone(),
+                        target.y.clone(),
+                        target.z.clone(),
+                        -spin.clone(),
+                    );
+                    let x = k4.try_inverse().unwrap_or_else(nalgebra::Matrix4::zeros) * rhs;
+                    (
+                        Vector3::new(x[0].clone(), x[1].clone(), x[2].clone()),
+                        x[3].clone(),
+                    )
+                };
+                // 2. Sticking impulse, sliding spin: `τ = g P_n`.
+                let stick_slide = || {
+                    let m3 = &k + &k_ut * n.transpose() * g.clone();
+                    let p = m3.try_inverse().unwrap_or_else(Matrix3::zeros) * &target;
+                    let tau = n.dot(&p) * g.clone();
+                    (p, tau)
+                };
+                // 3. Sliding impulse along `d`, sticking spin.
+                let slide_stick = |d: &Vector3<T>| {
+                    let (a11, a12) = (n.dot(&(&k * d)), n.dot(&k_ut));
+                    let (a21, a22) = (k_ut.dot(d), k_tt.clone());
+                    let (b1, b2) = (sep.clone() - vn.clone(), -spin.clone());
+                    let det = a11.clone() * a22.clone() - a12.clone() * a21.clone();
+                    let pn = (b1.clone() * a22 - a12 * b2.clone()) / det.clone();
+                    let tau = (a11 * b2 - a21 * b1) / det;
+                    (d * pn, tau)
+                };
+                // 4. Sliding in both.
+                let slide_slide = |d: &Vector3<T>| {
+                    let pn =
+                        (sep.clone() - vn.clone()) / (n.dot(&(&k * d)) + n.dot(&k_ut) * g.clone());
+                    (d * pn.clone(), g.clone() * pn)
+                };
+                let mode = mode.unwrap_or_else(|| {
+                    let (p, tau) = stick_stick();
+                    if cone(&p) && torque_ok(&tau, &n.dot(&p)) {
+                        return FrictionMode {
+                            stick: true,
+                            spin_stick: true,
+                        };
+                    }
+                    let (p, _) = stick_slide();
+                    if cone(&p) {
+                        return FrictionMode {
+                            stick: true,
+                            spin_stick: false,
+                        };
+                    }
+                    if let Some(d) = &slide_dir {
+                        let (p, tau) = slide_stick(d);
+                        if torque_ok(&tau, &n.dot(&p)) {
+                            return FrictionMode {
+                                stick: false,
+                                spin_stick: true,
+                            };
+                        }
+                    }
+                    FrictionMode {
+                        stick: false,
+                        spin_stick: false,
+                    }
+                });
+                decided = mode;
+                match (mode.stick, mode.spin_stick, &slide_dir) {
+                    (true, true, _) | (false, true, None) => stick_stick(),
+                    (true, false, _) | (false, false, None) => stick_slide(),
+                    (false, true, Some(d)) => slide_stick(d),
+                    (false, false, Some(d)) => slide_slide(d),
+                }
+            } else {
+                let k_inv = k.clone().try_inverse().unwrap_or_else(Matrix3::zeros);
+                let p_stick = k_inv * &target;
+                decided.stick = match mode {
+                    Some(m) => m.stick,
+                    None => cone(&p_stick),
+                };
+                match &slide_dir {
+                    Some(dir) if !decided.stick => {
+                        let pn = (sep - vn.clone()) / n.dot(&(&k * dir));
+                        (dir * pn, T::zero())
+                    }
+                    _ => (p_stick, T::zero()),
+                }
             }
         } else {
             let j = (sep - vn.clone()) / n.dot(&(&k * &n));
-            &n * j
+            (&n * j, T::zero())
         };
         let mut out = Vec::with_capacity(OUTPUTS);
         out.push(geo.distance.clone());
+        let couple = &n * tau;
         let va = &a.v + &p * a.inv_mass.clone();
-        let wa = &a.w + &a.inv_inertia * ra.cross(&p);
+        let wa = &a.w + &a.inv_inertia * (ra.cross(&p) + &couple);
         out.extend(va.iter().cloned());
         out.extend(wa.iter().cloned());
         match &b {
             Some(m) => {
                 let vb2 = &m.v - &p * m.inv_mass.clone();
-                let wb2 = &m.w - &m.inv_inertia * rb.cross(&p);
+                let wb2 = &m.w - &m.inv_inertia * (rb.cross(&p) + &couple);
                 out.extend(vb2.iter().cloned());
                 out.extend(wb2.iter().cloned());
             }
             None => out.extend(std::iter::repeat_n(T::zero(), 6)),
         }
-        (out, stick)
+        (out, decided)
     }
 
     /// Apply the impulse at the current state (deciding the friction mode).
     pub fn apply(&mut self) -> ImpulseResult {
         let z = self.input();
-        let (out, stick) = self.model::<f64>(&z, None);
-        self.stick = stick;
+        let (out, mode) = self.model::<f64>(&z, None);
+        self.mode = mode;
         // Re-derive the quantities the report needs with the same model.
         let a_pose = PoseT::from_isometry(&Isometry3::from_parts(
             self.a.state.x.into(),
@@ -527,7 +663,7 @@ impl ImpulseCtx {
 
     fn jac_n<const N: usize>(&self, z: &[f64]) -> SMatrix<f64, OUTPUTS, N> {
         let x = SVector::<f64, N>::from_column_slice(z);
-        let mode = Some(self.stick);
+        let mode = Some(self.mode);
         let (_, j) = num_dual::jacobian(
             |zd: SVector<DualSVec64<N>, N>| {
                 let (out, _) = self.model(zd.as_slice(), mode);
@@ -540,7 +676,7 @@ impl ImpulseCtx {
 
     /// Evaluate the model at arbitrary inputs (for finite-difference checks).
     pub fn evaluate(&self, z: &[f64]) -> Vec<f64> {
-        self.model::<f64>(z, Some(self.stick)).0
+        self.model::<f64>(z, Some(self.mode)).0
     }
 }
 
@@ -616,7 +752,7 @@ mod tests {
             normal_dev: None,
             tangent_axis: Vec3::x(),
             friction: 0.0,
-            stick: false,
+            mode: FrictionMode::default(),
             min_separation: None,
         };
         let pair = |fa, fb| FeaturePair {
@@ -730,5 +866,226 @@ mod tests {
                 }
             }
         }
+    }
+}
+
+/// Friction at a contact patch: the impulse and the couple that resists
+/// spin about the normal, in each of their four modes.
+#[cfg(test)]
+mod patch_friction {
+    use super::*;
+    use crate::geometry::{Corner, PatchCorner, SideFeature};
+    use nalgebra::UnitQuaternion;
+
+    const HALF: f64 = 0.05;
+
+    /// A 10 cm box's bottom face landing nearly flat on a floor with
+    /// friction `mu`, falling at 2 m/s, sliding at `slide` m/s along x and
+    /// spinning at `spin` rad/s about the vertical.
+    fn landing(mu: f64, slide: f64, spin: f64) -> ImpulseCtx {
+        let a = PartyCtx {
+            state: BodyState {
+                x: Vec3::new(0.0, 0.0, HALF),
+                q: UnitQuaternion::from_scaled_axis(Vec3::new(0.002, -0.001, 0.3)),
+                v: Vec3::new(slide, 0.0, -2.0),
+                w: Vec3::new(0.1, -0.2, spin),
+            },
+            mass: 1.0,
+            principal: Vec3::new(0.0017, 0.0016, 0.0015),
+            axes: Mat3::identity(),
+        };
+        let bottom = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+        let corners = bottom
+            .iter()
+            .enumerate()
+            .map(|(index, &(sx, sy))| PatchCorner {
+                corner: Corner::A {
+                    index,
+                    p: Vec3::new(sx * HALF, sy * HALF, -HALF),
+                },
+                face_on_a: false,
+                face_normal: Vec3::z(),
+                face_point: Vec3::zeros(),
+            })
+            .collect();
+        let touching = FeaturePair {
+            a: SideFeature::Point {
+                p: Vec3::new(HALF, HALF, -HALF),
+                radius: 0.0,
+                vertices: Vec::new(),
+            },
+            b: SideFeature::Plane {
+                normal: Vec3::z(),
+                point: Vec3::zeros(),
+                vertices: Vec::new(),
+            },
+            part_a: 0,
+            part_b: 0,
+            sign: 1.0,
+            patch: Vec::new(),
+            patch_depth: 0.0,
+            patch_face: None,
+        };
+        ImpulseCtx {
+            feature: touching.at_patch(corners, 0.01, (false, Vec3::z())),
+            a,
+            b: None,
+            b_pose: Isometry3::identity(),
+            restitution: 0.3,
+            normal_dev: None,
+            tangent_axis: Vec3::x(),
+            friction: mu,
+            mode: FrictionMode::default(),
+            min_separation: None,
+        }
+    }
+
+    /// Relative spin about the normal and tangential contact velocity after
+    /// the impulse, the normal impulse and the couple.
+    fn after(ctx: &ImpulseCtx, res: &ImpulseResult) -> (f64, f64, f64, f64) {
+        let a = &ctx.a;
+        let pn = res.normal.dot(&res.impulse);
+        let r = res.point - a.state.x;
+        let inertia = {
+            let rq = a.state.q.to_rotation_matrix().matrix() * a.axes;
+            rq * Mat3::from_diagonal(&a.principal) * rq.transpose()
+        };
+        // ΔL = r × P + τ n, so τ = n · (I Δω − r × P).
+        let tau = res
+            .normal
+            .dot(&(inertia * (res.wa - a.state.w) - r.cross(&res.impulse)));
+        let u = res.va + res.wa.cross(&r);
+        let ut = (u - res.normal * res.normal.dot(&u)).norm();
+        (res.normal.dot(&res.wa), ut, pn, tau)
+    }
+
+    #[test]
+    fn each_friction_mode_obeys_its_cone_and_stops_what_it_holds() {
+        let cases = [
+            ("stick/stick", 0.8, 0.1, 2.0, true, true),
+            ("stick/slide", 0.8, 0.1, 200.0, true, false),
+            ("slide/stick", 0.2, 3.0, 0.5, false, true),
+            ("slide/slide", 0.2, 3.0, 40.0, false, false),
+        ];
+        for (name, mu, slide, spin, stick, spin_stick) in cases {
+            let mut ctx = landing(mu, slide, spin);
+            let res = ctx.apply();
+            assert_eq!(
+                ctx.mode,
+                FrictionMode { stick, spin_stick },
+                "{name}: the mode decided"
+            );
+            let (spin_after, ut, pn, tau) = after(&ctx, &res);
+            assert!(pn > 0.0, "{name}: P_n = {pn}");
+            let rho = ctx
+                .feature
+                .evaluate(
+                    &PoseT::from_isometry(&Isometry3::from_parts(
+                        ctx.a.state.x.into(),
+                        ctx.a.state.q,
+                    )),
+                    &PoseT::from_isometry(&ctx.b_pose),
+                )
+                .spin_radius;
+            assert!((rho - HALF * 2f64.sqrt()).abs() < 1e-3, "{name}: ρ = {rho}");
+            let limit = mu * rho * pn;
+            if spin_stick {
+                assert!(spin_after.abs() < 1e-12, "{name}: spin left {spin_after}");
+                assert!(
+                    tau.abs() <= limit * (1.0 + 1e-12),
+                    "{name}: {tau} > {limit}"
+                );
+            } else {
+                assert!(
+                    (tau.abs() - limit).abs() < 1e-9 * limit,
+                    "{name}: {tau} vs {limit}"
+                );
+                assert!(tau * spin < 0.0, "{name}: the couple opposes the spin");
+                assert!(
+                    spin_after * spin > 0.0,
+                    "{name}: a sliding couple does not reverse the spin"
+                );
+            }
+            let pt = (res.impulse - res.normal * pn).norm();
+            if stick {
+                assert!(ut < 1e-9, "{name}: still sliding at {ut}");
+                assert!(pt <= mu * pn * (1.0 + 1e-12), "{name}: outside the cone");
+            } else {
+                assert!(
+                    (pt - mu * pn).abs() < 1e-9 * pn,
+                    "{name}: |P_t| {pt} vs μP_n {}",
+                    mu * pn
+                );
+            }
+            let energy = |v: &Vec3, w: &Vec3| {
+                let rq = ctx.a.state.q.to_rotation_matrix().matrix() * ctx.a.axes;
+                let inertia = rq * Mat3::from_diagonal(&ctx.a.principal) * rq.transpose();
+                0.5 * ctx.a.mass * v.norm_squared() + 0.5 * w.dot(&(inertia * w))
+            };
+            let (before, now) = (
+                energy(&ctx.a.state.v, &ctx.a.state.w),
+                energy(&res.va, &res.wa),
+            );
+            assert!(
+                now <= before * (1.0 + 1e-12),
+                "{name}: energy {before} -> {now}"
+            );
+            assert!(
+                (res.separation + ctx.restitution * res.approach).abs() < 1e-9,
+                "{name}: separation {} approach {}",
+                res.separation,
+                res.approach
+            );
+        }
+    }
+
+    /// The dual-number Jacobian of every mode matches central differences
+    /// of the map that is applied.
+    #[test]
+    fn the_patch_friction_jacobian_matches_central_differences() {
+        for (mu, slide, spin) in [
+            (0.8, 0.1, 2.0),
+            (0.8, 0.1, 200.0),
+            (0.2, 3.0, 0.5),
+            (0.2, 3.0, 40.0),
+        ] {
+            let mut ctx = landing(mu, slide, spin);
+            ctx.apply();
+            let j = ctx.jacobian();
+            let z = ctx.input();
+            for c in 0..z.len() {
+                let h = 1e-6 * z[c].abs().max(1.0);
+                let (mut zp, mut zm) = (z.clone(), z.clone());
+                zp[c] += h;
+                zm[c] -= h;
+                let (fp, fm) = (ctx.evaluate(&zp), ctx.evaluate(&zm));
+                for r in 0..OUTPUTS {
+                    let fd = (fp[r] - fm[r]) / (2.0 * h);
+                    assert!(
+                        (fd - j[(r, c)]).abs() < 1e-6 * (1.0 + fd.abs()),
+                        "{:?}: ∂out{r}/∂in{c}: {fd} vs {}",
+                        ctx.mode,
+                        j[(r, c)]
+                    );
+                }
+            }
+        }
+    }
+
+    /// Without the friction effect a patch resists no spin, and with
+    /// friction a one-point contact has no torsional lever: the couple is
+    /// zero and the spin about the normal passes through unchanged.
+    #[test]
+    fn no_spin_friction_without_friction_or_without_a_patch() {
+        let mut frictionless = landing(0.0, 0.1, 2.0);
+        let res = frictionless.apply();
+        let (_, _, _, tau) = after(&frictionless, &res);
+        assert!(tau.abs() < 1e-12, "frictionless couple {tau}");
+        let mut point = landing(0.8, 0.1, 2.0);
+        point.feature.patch.clear();
+        point.feature.patch_face = None;
+        let res = point.apply();
+        let (_, _, _, tau) = after(&point, &res);
+        assert!(tau.abs() < 1e-12, "one-point couple {tau}");
     }
 }

@@ -3,7 +3,7 @@
 
 use super::dynamics::BodyDynamics;
 use super::events::{Pair, Tolerances, World};
-use super::impulse::{ImpulseCtx, PartyCtx};
+use super::impulse::{FrictionMode, ImpulseCtx, PartyCtx};
 use super::integrator::{self, Step};
 use super::rest::{self, Mode, Slide};
 use super::state::{BodyState, StateSide};
@@ -854,7 +854,7 @@ impl Sim<'_> {
             normal_dev: control.and_then(|c| c.normal),
             tangent_axis: axis,
             friction,
-            stick: false,
+            mode: FrictionMode::default(),
             min_separation: None,
         };
         let mut res = ctx.apply();
@@ -1128,7 +1128,7 @@ impl Sim<'_> {
             slide,
             micro,
             rest_time,
-            stick: (friction > 0.0).then_some(ctx.stick),
+            friction: (friction > 0.0).then_some(ctx.mode),
             dt_du,
             pre: [sa, sb.unwrap_or(sa)],
             post: [post_a, post_b.unwrap_or(post_a)],

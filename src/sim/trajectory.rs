@@ -3,6 +3,7 @@
 
 use super::dynamics::BodyDynamics;
 use super::flight::translation;
+use super::impulse::FrictionMode;
 use super::integrator::{Step, body_rate, tangent_block};
 use super::rest::Slide;
 use super::state::{BodyState, StateSide};
@@ -83,8 +84,8 @@ pub struct Event {
     /// the scene's rest speed and was made to leave at exactly that speed.
     pub micro: bool,
     pub rest_time: Option<f64>,
-    /// Friction mode when friction applied: `Some(true)` sticking.
-    pub stick: Option<bool>,
+    /// Friction mode when friction applied.
+    pub friction: Option<FrictionMode>,
     /// `dt_c/du` (length m) when tangents were computed and the contact is not grazing.
     pub dt_du: Option<DVector<f64>>,
     /// States of a and (if a body) b just before and after the impulse.
