@@ -499,6 +499,57 @@ fn grazing_contact_is_flagged_before_the_contact_time_derivative_blows_up() {
 
 /// At a grazing contact the solver reports a typed condition and the
 /// editor falls back to sampling instead of using the unbounded Jacobian.
+/// A grazing contact used to take every body's Jacobians away from its
+/// time on: a grazing egg rattling in one bucket blocked a nail on the other
+/// egg, which never touched it. Now only the bodies that touch the grazing
+/// contact, or later collide with one that did, lose them.
+#[test]
+fn regression_a_grazing_contact_blocked_the_jacobians_of_bodies_it_never_touched() {
+    let mut scene = load("graze-two-balls.toml");
+    let opts = SimOptions::default();
+    let tr = simulate(&scene, &Controls::new(&scene), &opts).expect("simulates");
+    let graze = tr.events.first().expect("the grazer touches the floor");
+    assert!(
+        graze.grazing,
+        "the contact is grazing: ratio {}",
+        graze.graze_ratio
+    );
+    assert!(tr.jacobian(0, 0.9, StateSide::After).is_err());
+    // The bystander's Jacobian after the graze: its own position and
+    // velocity columns are exactly [I, tI; 0, I] (free flight), the
+    // grazer's columns zero.
+    let j = tr
+        .jacobian(1, 0.9, StateSide::After)
+        .unwrap_or_else(|e| panic!("the bystander keeps its Jacobian: {e}"));
+    let mut want = nalgebra::DMatrix::<f64>::zeros(12, 12);
+    for k in 0..3 {
+        want[(k, 6 + k)] = 1.0;
+        want[(k, 9 + k)] = 0.9;
+        want[(6 + k, 9 + k)] = 1.0;
+    }
+    let err = (&j - &want).amax();
+    assert!(err < 1e-12, "bystander Jacobian off by {err:e}\n{j}");
+
+    // Struck by the grazer after the graze, the bystander loses them from
+    // that collision on, not before.
+    scene.bodies[1].position = Vec3::new(0.8, 0.0, 0.15);
+    scene.bodies[1].velocity = Vec3::zeros();
+    scene.pairs.push([0, 1]);
+    let tr = simulate(&scene, &Controls::new(&scene), &opts).expect("simulates");
+    let hit = tr
+        .events
+        .iter()
+        .find(|e| e.b == nudge::sim::Party::Body(1))
+        .expect("the grazer strikes the bystander");
+    assert!(hit.t > graze.t, "{} after {}", hit.t, graze.t);
+    assert!(
+        tr.jacobian(1, 0.5 * (graze.t + hit.t), StateSide::After)
+            .is_ok()
+    );
+    assert!(tr.jacobian(1, hit.t, StateSide::After).is_err());
+    assert!(tr.jacobian(1, 0.95, StateSide::After).is_err());
+}
+
 #[test]
 fn grazing_contact_makes_the_solver_and_editor_fall_back_to_sampling() {
     use nudge::edit::{Core, Edit, Editor};

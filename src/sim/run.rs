@@ -302,6 +302,7 @@ pub fn simulate(
         m,
         tangent: opts.tangent,
         tangent_error: None,
+        tangent_lost: vec![None; scene.bodies.len()],
         diagnostics: Vec::new(),
     };
     let mut pairs = Vec::new();
@@ -1074,7 +1075,15 @@ impl Sim<'_> {
         let mut dt_du = None;
         let mut graze_ratio = f64::NAN;
         let mut grazing = false;
-        if self.traj.tangent && self.traj.tangent_error.is_none() {
+        let b_body = pair.b_body();
+        let lost = self.traj.tangent_lost[a].or(b_body.and_then(|j| self.traj.tangent_lost[j]));
+        if let (true, Some((_, e))) = (self.traj.tangent, lost) {
+            // One party's Jacobians are already lost: the collision takes
+            // the other's from now on.
+            for body in std::iter::once(a).chain(b_body) {
+                self.traj.tangent_lost[body].get_or_insert((tc, e));
+            }
+        } else if self.traj.tangent {
             match self.saltation(
                 tc,
                 index,
@@ -1098,12 +1107,12 @@ impl Sim<'_> {
                     graze_ratio = ratio;
                     grazing = matches!(e, TangentError::Grazing { .. });
                     self.traj.diagnostics.push(e.to_string());
-                    self.traj.tangent_error = Some(e);
+                    self.traj.tangent_error.get_or_insert(e);
+                    for body in std::iter::once(a).chain(b_body) {
+                        self.traj.tangent_lost[body] = Some((e.time(), e));
+                    }
                 }
             }
-        } else if self.traj.tangent {
-            // Tangents already unavailable: still measure how grazing the contact is.
-            graze_ratio = f64::NAN;
         }
         let event = Event {
             index,

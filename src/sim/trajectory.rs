@@ -150,8 +150,15 @@ pub struct Trajectory {
     /// Number of Jacobian columns (free controls); 0 without tangents.
     pub m: usize,
     pub tangent: bool,
-    /// The first reason Jacobians stop being available (from its time on).
+    /// The first reason Jacobians stop being available (from its time on)
+    /// for some body.
     pub tangent_error: Option<TangentError>,
+    /// Per body: from which time its Jacobians are unavailable, and why. A
+    /// grazing contact takes them from the bodies that touch; a later
+    /// collision with such a body takes them from the other party too. A
+    /// body that never meets one keeps exact Jacobians (a grazing egg in
+    /// one bucket does not stop the other egg's edit).
+    pub tangent_lost: Vec<Option<(f64, TangentError)>>,
     pub diagnostics: Vec<String>,
     /// Jacobian columns of each body's mass and first inertia entry.
     pub(crate) mass_cols: Vec<Option<usize>>,
@@ -256,13 +263,13 @@ impl Trajectory {
             .0
     }
 
-    /// Whether Jacobians are available at time `t`.
-    pub fn jacobian_available(&self, t: f64) -> Result<(), TangentError> {
+    /// Whether `body`'s Jacobians are available at time `t`.
+    pub fn jacobian_available(&self, body: usize, t: f64) -> Result<(), TangentError> {
         if !self.tangent {
             return Err(TangentError::NotComputed);
         }
-        match self.tangent_error {
-            Some(e) if t >= e.time() => Err(e),
+        match self.tangent_lost.get(body).copied().flatten() {
+            Some((from, e)) if t >= from => Err(e),
             _ => Ok(()),
         }
     }
@@ -275,7 +282,7 @@ impl Trajectory {
         t: f64,
         side: StateSide,
     ) -> Result<DMatrix<f64>, TangentError> {
-        self.jacobian_available(t)?;
+        self.jacobian_available(body, t)?;
         let i = self.segment_index(body, t, side);
         let seg = &self.tracks[body].segments[i];
         let j = self.segment_jacobian(body, seg, t);
@@ -298,10 +305,11 @@ impl Trajectory {
         side: StateSide,
     ) -> Result<DMatrix<f64>, TangentError> {
         let j = self.jacobian(body, event.t, side)?;
+        let lost = self.tangent_lost.get(body).copied().flatten();
         let dt = event
             .dt_du
             .as_ref()
-            .ok_or(self.tangent_error.unwrap_or(TangentError::NotComputed))?;
+            .ok_or(lost.map_or(TangentError::NotComputed, |(_, e)| e))?;
         let state = self.state(body, event.t, side);
         let f = self.flow(body, &state, self.resting(body, event.t, side));
         Ok(j + f * dt.transpose())
