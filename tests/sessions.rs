@@ -358,6 +358,158 @@ fn scissors_land_on_the_coatrack_peg() {
     assert_plausible("scissors", r);
 }
 
+/// What keeps a motion of `scenes/scissors-bounce.toml` from being the
+/// goal of its session (paper Figure 5d, second version), empty when it
+/// is the goal: the scissors bounce off the floor exactly once, then land
+/// on the coatrack (their first collision after the bounce) having turned
+/// at least one full revolution about the y axis on the way (the axis the
+/// front view looks along, about which they somersault), and end at rest
+/// on its low peg (top at z = 1.31 m, spanning x = 0.44..0.68 m and
+/// y = ±0.08 m) without touching the floor again. `report` is the JSON
+/// report of the motion (`nudge run` or `nudge check --json`) and `scene`
+/// a scene that simulates it: the turn is unwrapped from its orientation
+/// over the whole flight, not read from one sample.
+fn scissors_bounce_misses(report: &Value, scene: &nudge::scene::Scene) -> Vec<String> {
+    let mut misses = Vec::new();
+    let floor = events_between(report, "scissors", "floor");
+    if floor.len() != 1 {
+        misses.push(format!(
+            "{} floor collisions, not exactly one bounce: {:?}",
+            floor.len(),
+            floor.iter().map(|e| &e["t"]).collect::<Vec<_>>()
+        ));
+    }
+    let time = |e: &Value| e["t"].as_f64().expect("t");
+    let bounce = floor.first().map_or(f64::NAN, |e| time(e));
+    let landing = events_between(report, "scissors", "coatrack")
+        .into_iter()
+        .map(|e| time(e))
+        .find(|&t| t > bounce);
+    let [x, _, v, w] = final_state(report, "scissors");
+    if !((0.44..=0.68).contains(&x[0]) && x[1].abs() < 0.08 && (1.31..1.40).contains(&x[2])) {
+        misses.push(format!("they end at {x:?}, not on the low peg"));
+    }
+    if norm(v) > 0.01 || norm(w) > 0.1 {
+        misses.push(format!(
+            "they are not at rest at the end: |v| = {:.3} m/s, |ω| = {:.3} rad/s",
+            norm(v),
+            norm(w)
+        ));
+    }
+    let Some(landing) = landing else {
+        misses.push("they never land on the coatrack after a bounce".into());
+        return misses;
+    };
+    // The scene must reproduce the report's motion.
+    let controls = Controls::new(scene);
+    let traj = simulate(
+        scene,
+        &controls,
+        &SimOptions {
+            tangent: false,
+            ..SimOptions::default()
+        },
+    )
+    .expect("simulates");
+    let same = |t: f64| traj.events.iter().any(|e| (e.t - t).abs() < 1e-9);
+    assert!(
+        same(bounce) && same(landing),
+        "the scene does not reproduce the report (bounce {bounce}, landing {landing})"
+    );
+    // Unwrap the turn between the bounce and the landing: the sum of the
+    // world-frame rotations between 4000 closely spaced orientations (each
+    // well below half a turn, so none is taken the short way round the
+    // wrong side), and beside it the integral of the angular velocity.
+    let n = 4000;
+    let dt = (landing - bounce) / n as f64;
+    let at = |k: usize| {
+        let side = if k == n {
+            StateSide::Before
+        } else {
+            StateSide::After
+        };
+        traj.state(0, bounce + dt * k as f64, side)
+    };
+    let mut turn = nalgebra::Vector3::zeros();
+    let mut spin = 0.0;
+    let mut largest = 0.0f64;
+    for k in 0..n {
+        let (a, b) = (at(k), at(k + 1));
+        let step = (b.q * a.q.inverse()).scaled_axis();
+        largest = largest.max(step.norm());
+        turn += step;
+        spin += 0.5 * (a.w.y + b.w.y) * dt;
+    }
+    assert!(largest < 0.1, "orientation samples {largest:.3} rad apart");
+    let revolutions = turn.y / std::f64::consts::TAU;
+    assert!(
+        (turn.y - spin).abs() < 0.01 * spin.abs().max(1.0),
+        "the unwrapped turn about y ({:.4} rad) and the integrated spin ({spin:.4} rad) disagree",
+        turn.y
+    );
+    if revolutions.abs() < 1.0 {
+        misses.push(format!(
+            "they turn {revolutions:.3} revolutions about y between the bounce (t = {bounce:.4} s) and the landing (t = {landing:.4} s), less than one"
+        ));
+    }
+    misses
+}
+
+/// Paper Figure 5d, second version: the scissors bounce off the floor once,
+/// somersault (more than one revolution) and land on the coatrack's low
+/// peg, where they stay, never touching the floor again. The session saves
+/// the edited scene; the turn is measured on it simulated afresh.
+#[test]
+fn scissors_bounce_somersault_and_land_on_the_coatrack_peg() {
+    let s = run("scissors-bounce");
+    let r = &s.report;
+    let scene = nudge::scene::load(&s.dir.join("scissors-bounce-edited.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let misses = scissors_bounce_misses(r, &scene);
+    assert!(misses.is_empty(), "scissors-bounce: {misses:#?}");
+    let floor = events_between(r, "scissors", "floor");
+    assert!(
+        r["events"][0] == *floor[0],
+        "the floor bounce is not the first collision"
+    );
+    assert_eq!(
+        pops_and_blocks(&s.screen),
+        (0, 0),
+        "the edit stays in the bounce's smooth component"
+    );
+    assert_constraints_hold("scissors-bounce", r);
+    assert_plausible("scissors-bounce", r);
+}
+
+/// The goal above can fail: the unedited throw bounces, turns only three
+/// quarters of a revolution, falls onto the coatrack's base and on to the
+/// floor.
+#[test]
+fn scissors_bounce_goal_is_not_met_by_the_unedited_throw() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join("scenes/scissors-bounce.toml");
+    let out = Command::new(env!("CARGO_BIN_EXE_nudge"))
+        .arg("check")
+        .arg(&path)
+        .arg("--json")
+        .output()
+        .expect("runs nudge");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value = serde_json::from_slice(&out.stdout).expect("report is JSON");
+    let scene = nudge::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let misses = scissors_bounce_misses(&report, &scene);
+    for what in ["floor collisions", "revolutions", "not on the low peg"] {
+        assert!(
+            misses.iter().any(|m| m.contains(what)),
+            "the unedited throw should miss by {what:?}: {misses:#?}"
+        );
+    }
+}
+
 /// Paper §3.2: on a smooth hill the exit direction moves smoothly; the ball
 /// is dragged over the hilltop to (0.5, 0, 1.0) at t = 1 s with a single
 /// bounce, no pop and no block, and a later change of the throw keeps it
