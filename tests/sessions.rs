@@ -383,7 +383,7 @@ fn scissors_bounce_misses(report: &Value, scene: &nudge::scene::Scene) -> Vec<St
     let bounce = floor.first().map_or(f64::NAN, |e| time(e));
     let landing = events_between(report, "scissors", "coatrack")
         .into_iter()
-        .map(|e| time(e))
+        .map(time)
         .find(|&t| t > bounce);
     let [x, _, v, w] = final_state(report, "scissors");
     if !((0.44..=0.68).contains(&x[0]) && x[1].abs() < 0.08 && (1.31..1.40).contains(&x[2])) {
