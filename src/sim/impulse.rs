@@ -7,7 +7,7 @@
 
 use super::jet::{self, Sj, Vj};
 use super::state::BodyState;
-use crate::geometry::{FeaturePair, PoseT};
+use crate::geometry::{FeaturePair, PoseT, SideFeature};
 use crate::math::{Mat3, Vec3};
 use nalgebra::{
     Const, DMatrix, Isometry3, Matrix3, RealField, SMatrix, SVector, U1, Vector3, convert,
@@ -534,10 +534,10 @@ impl ImpulseCtx {
             return self.jacobian_jet();
         }
         if self.b.is_some() {
-            let j = self.jet::<24, 12>();
+            let j = self.jet_any::<24>();
             DMatrix::from_column_slice(OUTPUTS, 24, j.as_slice())
         } else {
-            let j = self.jet::<12, 6>();
+            let j = self.jet_any::<12>();
             DMatrix::from_column_slice(OUTPUTS, 12, j.as_slice())
         }
     }
@@ -549,23 +549,79 @@ impl ImpulseCtx {
     pub fn jacobian_jet(&self) -> DMatrix<f64> {
         assert!(self.friction == 0.0, "the jet Jacobian is frictionless");
         if self.b.is_some() {
-            let j = self.jet::<INPUTS_BODIES, 12>();
+            let j = self.jet_any::<INPUTS_BODIES>();
             DMatrix::from_column_slice(OUTPUTS, INPUTS_BODIES, j.as_slice())
         } else {
-            let j = self.jet::<INPUTS_OBSTACLE, 6>();
+            let j = self.jet_any::<INPUTS_OBSTACLE>();
             DMatrix::from_column_slice(OUTPUTS, INPUTS_OBSTACLE, j.as_slice())
         }
     }
 
+    /// The configuration directions the contact geometry depends on, as
+    /// geometry directions (`0..6`: `δx_a, δθ_a`; `6..12`: `δx_b, δθ_b`). A
+    /// ball centred on its body's centre of mass turns without moving its
+    /// surface, so its rotation directions are left out: carrying them
+    /// would only cost dual-number width.
+    fn geometry_directions(&self) -> Vec<usize> {
+        let turns = |side: &SideFeature| {
+            !self.feature.patch.is_empty()
+                || !matches!(side, SideFeature::Point { p, radius, .. } if *radius > 0.0 && *p == Vec3::zeros())
+        };
+        let mut dirs: Vec<usize> = (0..3).collect();
+        if turns(&self.feature.a) {
+            dirs.extend(3..6);
+        }
+        if self.b.is_some() {
+            dirs.extend(6..9);
+            if turns(&self.feature.b) {
+                dirs.extend(9..12);
+            }
+        }
+        dirs
+    }
+
+    /// The impulse map's Jacobian (`N` inputs) with the geometry carried
+    /// along exactly the directions of [`ImpulseCtx::geometry_directions`].
+    fn jet_any<const N: usize>(&self) -> SMatrix<f64, OUTPUTS, N> {
+        let dirs = self.geometry_directions();
+        match dirs.len() {
+            3 => self.jet::<N, 3>(&dirs),
+            6 => self.jet::<N, 6>(&dirs),
+            9 => self.jet::<N, 9>(&dirs),
+            _ => self.jet::<N, 12>(&dirs),
+        }
+    }
+
     /// Contact geometry with its derivatives along the configuration
-    /// inputs `(δx_a, δθ_a[, δx_b, δθ_b])`, spread into the `N` model inputs.
-    fn geometry_jet<const N: usize, const G: usize>(&self) -> (Sj<N>, Vj<N>, Vj<N>, Vj<N>) {
-        let seeds: Vec<DualSVec64<G>> = (0..G)
-            .map(|i| DualSVec64::new(0.0, Derivative::derivative_generic(Const::<G>, U1, i)))
+    /// directions `dirs` (geometry directions, see
+    /// [`ImpulseCtx::geometry_directions`]; `G` of them), spread into the
+    /// `N` model inputs; the other directions' derivatives are zero.
+    fn geometry_jet<const N: usize, const G: usize>(
+        &self,
+        dirs: &[usize],
+    ) -> (Sj<N>, Vj<N>, Vj<N>, Vj<N>) {
+        let all = if self.b.is_some() { 12 } else { 6 };
+        let seeds: Vec<DualSVec64<G>> = (0..all)
+            .map(|g| match dirs.iter().position(|&d| d == g) {
+                Some(k) => DualSVec64::new(0.0, Derivative::derivative_generic(Const::<G>, U1, k)),
+                None => DualSVec64::from_re(0.0),
+            })
             .collect();
-        let pa = pose(&self.a, &seeds, 0);
+        // A party whose rotation is not carried keeps a constant rotation
+        // matrix (no dual-number product for it).
+        let posed = |p: &PartyCtx, at: usize| {
+            if dirs.contains(&(at + 3)) {
+                pose(p, &seeds, at)
+            } else {
+                PoseT {
+                    x: cv::<DualSVec64<G>>(&p.state.x) + v3(&seeds, at),
+                    r: cm(p.state.q.to_rotation_matrix().matrix()),
+                }
+            }
+        };
+        let pa = posed(&self.a, 0);
         let pb = match &self.b {
-            Some(b) => pose(b, &seeds, 6),
+            Some(b) => posed(b, 6),
             None => PoseT {
                 x: cv(&self.b_pose.translation.vector),
                 r: cm(self.b_pose.rotation.to_rotation_matrix().matrix()),
@@ -573,21 +629,24 @@ impl ImpulseCtx {
         };
         let geo = self.feature.evaluate(&pa, &pb);
         // Geometry direction g is model input g for a, 12 + (g − 6) for b.
-        let col = |g: usize| if g < 6 { g } else { g + 6 };
+        let col = |k: usize| {
+            let g = dirs[k];
+            if g < 6 { g } else { g + 6 }
+        };
         let scalar = |x: &DualSVec64<G>| {
             let mut s = Sj::<N>::constant(x.re);
             let eps = x.eps.unwrap_generic(Const::<G>, U1);
-            for g in 0..G {
-                s.d[col(g)] = eps[g];
+            for k in 0..G {
+                s.d[col(k)] = eps[k];
             }
             s
         };
         let vector = |x: &Vector3<DualSVec64<G>>| {
             let mut v = Vj::<N>::constant(x.map(|c| c.re));
-            for k in 0..3 {
-                let eps = x[k].eps.unwrap_generic(Const::<G>, U1);
-                for g in 0..G {
-                    v.d[(k, col(g))] = eps[g];
+            for r in 0..3 {
+                let eps = x[r].eps.unwrap_generic(Const::<G>, U1);
+                for k in 0..G {
+                    v.d[(r, col(k))] = eps[k];
                 }
             }
             v
@@ -600,9 +659,9 @@ impl ImpulseCtx {
         )
     }
 
-    fn jet<const N: usize, const G: usize>(&self) -> SMatrix<f64, OUTPUTS, N> {
+    fn jet<const N: usize, const G: usize>(&self, dirs: &[usize]) -> SMatrix<f64, OUTPUTS, N> {
         let p0 = self.param_offset();
-        let (distance, normal, point_a, point_b) = self.geometry_jet::<N, G>();
+        let (distance, normal, point_a, point_b) = self.geometry_jet::<N, G>(dirs);
         let mut n = normal;
         if let Some(dev) = self.normal_dev {
             let t1 = n.cross_const(&self.tangent_axis).normalize();
@@ -683,7 +742,6 @@ impl ImpulseCtx {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::SideFeature;
     use nalgebra::UnitQuaternion;
 
     fn party(x: [f64; 3], axisangle: [f64; 3], v: [f64; 3], w: [f64; 3]) -> PartyCtx {
