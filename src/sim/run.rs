@@ -1389,8 +1389,8 @@ impl Sim<'_> {
             }
         }
         let jac = ctx.jacobian_with(params.iter().any(|&(_, c)| c < m));
-        let eq = jac.view((0, 0), (1, ns)).into_owned();
-        let denom = (&eq * &fpre)[(0, 0)];
+        let eq = jac.view((0, 0), (1, ns));
+        let denom = eq.iter().zip(fpre.iter()).map(|(e, f)| e * f).sum::<f64>();
         // Grazing measure: the cosine between E_q and the configuration part
         // of F (velocities; E does not depend on them, so including the
         // accelerations would only mix units into the ratio).
@@ -1413,18 +1413,51 @@ impl Sim<'_> {
                 ratio,
             ));
         }
-        let dt = -(&eq * &jpre) / denom; // 1 × m
+        // dt_c/du = −E_q J⁻ / (E_q F⁻), 1 × m.
+        let dt: Vec<f64> = (0..m)
+            .map(|c| {
+                -eq.iter()
+                    .zip(jpre.column(c).iter())
+                    .map(|(e, j)| e * j)
+                    .sum::<f64>()
+                    / denom
+            })
+            .collect();
         // Φ_q is the identity but for the velocity rows of each body (the
         // impulse changes velocities, not positions): only those rows of
-        // Φ_q J⁻ and Φ_q F⁻ need a product.
-        let mut phi_j = jpre.clone();
-        let mut phi_f = fpre.clone();
-        for (row, jac_row) in std::iter::once((6, 1)).chain((ns == 24).then_some((18, 7))) {
-            let rows = jac.view((jac_row, 0), (6, ns));
-            phi_j.rows_mut(row, 6).copy_from(&(rows * &jpre));
-            phi_f.rows_mut(row, 6).copy_from(&(rows * &fpre));
+        // Φ_q J⁻ and Φ_q F⁻ need a product. J⁻ becomes J⁺ in place, one
+        // column at a time (each column's new rows read only that column).
+        let velocity_rows: &[(usize, usize)] = if ns == 24 {
+            &[(6, 1), (18, 7)]
+        } else {
+            &[(6, 1)]
+        };
+        let phi = |row: usize, x: &[f64]| -> f64 {
+            x.iter().enumerate().map(|(k, v)| jac[(row, k)] * v).sum()
+        };
+        let mut mismatch = &fpre - &fpost; // Φ_q F⁻ − F⁺
+        for &(row, jac_row) in velocity_rows {
+            for i in 0..6 {
+                mismatch[row + i] += phi(jac_row + i, fpre.as_slice()) - fpre[row + i];
+            }
         }
-        let mut jpost = phi_j + (phi_f - &fpost) * &dt;
+        let mut jpost = jpre;
+        let mut rows = [0.0; 12];
+        for c in 0..m {
+            for (b, &(_, jac_row)) in velocity_rows.iter().enumerate() {
+                for i in 0..6 {
+                    rows[6 * b + i] = phi(jac_row + i, jpost.column(c).as_slice());
+                }
+            }
+            for (b, &(row, _)) in velocity_rows.iter().enumerate() {
+                for i in 0..6 {
+                    jpost[(row + i, c)] = rows[6 * b + i];
+                }
+            }
+            for r in 0..ns {
+                jpost[(r, c)] += mismatch[r] * dt[c];
+            }
+        }
         for (p, c) in params {
             if c >= m {
                 continue;
@@ -1452,7 +1485,7 @@ impl Sim<'_> {
         if !jpost.iter().chain(dt.iter()).all(|v| v.is_finite()) {
             return Err(nonfinite(ratio));
         }
-        Ok((jpost, DVector::from_iterator(m, dt.iter().cloned()), ratio))
+        Ok((jpost, DVector::from_vec(dt), ratio))
     }
 }
 

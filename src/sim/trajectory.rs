@@ -343,12 +343,29 @@ impl Trajectory {
             return j;
         }
         let tr = translation(&s0.x, &s0.v, &self.gravity, d.drag_k, tau);
-        let mut j = DMatrix::zeros(12, m);
-        // Translation: δx = δx₀ + φ₁ δv₀ (+ ∂x/∂k δk), δv = e δv₀ (+ ∂v/∂k δk).
-        let jx0 = j0.rows(0, 3);
-        let jv0 = j0.rows(6, 3);
-        j.rows_mut(0, 3).copy_from(&(jx0 + jv0 * tr.dx_dv));
-        j.rows_mut(6, 3).copy_from(&(jv0 * tr.dv_dv));
+        // Start from J₀ and update its rows in place, column by column: the
+        // blocks are 3 × m with small m, where temporaries would cost more
+        // than the arithmetic.
+        let mut j = j0.clone();
+        let rotation = (!d.integrate).then(|| {
+            let wt = s0.w * tau;
+            let e = *exp_so3(&wt).to_rotation_matrix().matrix();
+            (e, left_jacobian(&wt) * tau)
+        });
+        for c in 0..m {
+            let col = j0.column(c);
+            let (x0, t0) = (col.fixed_rows::<3>(0), col.fixed_rows::<3>(3));
+            let (v0, w0) = (col.fixed_rows::<3>(6), col.fixed_rows::<3>(9));
+            // Translation: δx = δx₀ + φ₁ δv₀ (+ ∂x/∂k δk), δv = e δv₀ (+ ∂v/∂k δk).
+            j.fixed_view_mut::<3, 1>(0, c)
+                .copy_from(&(x0 + v0 * tr.dx_dv));
+            j.fixed_view_mut::<3, 1>(6, c).copy_from(&(v0 * tr.dv_dv));
+            // Torque-free rotation at constant ω: δθ = e δθ₀ + τ J_l δω₀.
+            if let Some((e, jl)) = &rotation {
+                j.fixed_view_mut::<3, 1>(3, c)
+                    .copy_from(&(e * t0 + jl * w0));
+            }
+        }
         if let (Some(k), Some(col)) = (d.drag_k, self.mass_cols[body]) {
             // k = c/m, dk/dm = −k/m.
             let dk = -k / d.mass;
@@ -357,16 +374,11 @@ impl Trajectory {
                 j[(6 + r, col)] += tr.dv_dk[r] * dk;
             }
         }
-        let jt0 = j0.rows(3, 3);
-        let jw0 = j0.rows(9, 3);
-        if !d.integrate {
-            let wt = s0.w * tau;
-            let e = *exp_so3(&wt).to_rotation_matrix().matrix();
-            let jl = left_jacobian(&wt) * tau;
-            j.rows_mut(3, 3).copy_from(&(e * jt0 + jl * jw0));
-            j.rows_mut(9, 3).copy_from(&jw0);
+        if rotation.is_some() {
             return j;
         }
+        let jt0 = j0.rows(3, 3);
+        let jw0 = j0.rows(9, 3);
         let (st, z) = self.rotation(body, seg, t, true);
         let y = match z {
             Some(z) => tangent_block(&z),
