@@ -14,6 +14,7 @@
 mod body;
 mod inertia;
 mod read;
+mod saved;
 mod shape;
 mod source;
 mod write;
@@ -339,7 +340,7 @@ mod tests {
         for _ in 0..2000 {
             let r = Vec3::new(next(), next(), next()) * 1.8;
             let q = exp_so3(&r);
-            let back = write::exp_map_of(&q);
+            let back = saved::exp_map_of(&q);
             assert_eq!(
                 exp_so3(&back).coords.map(f64::to_bits),
                 q.coords.map(f64::to_bits),
