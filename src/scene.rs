@@ -6,7 +6,7 @@
 mod format;
 mod model;
 
-pub use format::{DEFAULT_SCENE, SceneError, load, load_str, save, to_toml};
+pub use format::{DEFAULT_SCENE, SceneError, load, load_str, save, saved_text, to_toml};
 pub use model::{
     Accuracy, Block, Body, ConstraintSpec, Effect, Effects, EventControl, Method, Obstacle, Scales,
     Scene, StateQuantity,

@@ -26,6 +26,7 @@ pub fn scene(duration: f64) -> Scene {
         scales: Scales::default(),
         event_controls: Vec::new(),
         constraints: Vec::new(),
+        source_text: None,
     }
 }
 

@@ -1970,15 +1970,26 @@ mod parser_properties {
 
         #[test]
         fn scene_text_loads_or_says_where(lines in proptest::collection::vec("[a-z_]{1,10} = (-?[0-9.e]{1,8}|\\\"[a-z ]{0,6}\\\"|\\[[0-9., -]{0,12}\\]|\\{ ?[a-z]+ = [0-9.]+ ?\\}|nan|inf|true)", 0..8)) {
-            let mut text = String::from("duration = 1.0\neffects = [\"gravity\"]\n[[body]]\nname = \"b\"\nshape = { type = \"sphere\", radius = 0.1 }\ndensity = 1000.0\n");
+            let mut text = String::from("# kept\nduration = 1.0\neffects = [\"gravity\"]\n[[body]]\nname = \"b\"\nshape = { type = \"sphere\", radius = 0.1 }\ndensity = 1000.0\n");
             for l in &lines {
                 text.push_str(l);
                 text.push('\n');
             }
             match nudge::scene::load_str(&text, "p.toml") {
-                Ok(scene) => {
+                Ok(mut scene) => {
                     let saved = nudge::scene::to_toml(&scene);
                     prop_assert!(nudge::scene::load_str(&saved, "saved.toml").is_ok(), "{}", saved);
+                    // Edited and saved into its own text: the comment stays
+                    // and the edit loads back.
+                    scene.bodies[0].velocity.x += 0.5;
+                    scene.bodies[0].mass *= 2.0;
+                    let kept = nudge::scene::saved_text(&scene, std::path::Path::new("p.toml"));
+                    prop_assert!(kept.starts_with("# kept\n"), "{}", kept);
+                    let back = nudge::scene::load_str(&kept, "p.toml");
+                    prop_assert!(back.is_ok(), "{:?}\n{}", back.err(), kept);
+                    let b = &back.as_ref().map_err(|e| TestCaseError::fail(e.to_string()))?.bodies[0];
+                    prop_assert_eq!(b.velocity.x.to_bits(), scene.bodies[0].velocity.x.to_bits());
+                    prop_assert_eq!(b.mass.to_bits(), scene.bodies[0].mass.to_bits());
                 }
                 Err(e) => prop_assert!(e.to_string().starts_with("p.toml:"), "{}", e),
             }

@@ -1,8 +1,11 @@
 //! The scene format end to end: every shipped scene loads and saves back
-//! bit for bit, and every invalid scene under `tests/invalid_scenes/` fails
-//! with exactly the message on its first line (`# expect: <message>`).
+//! bit for bit, saving keeps the user's comments and layout, and every
+//! invalid scene under `tests/invalid_scenes/` fails with exactly the
+//! message on its first line (`# expect: <message>`).
 use nudge::geometry::{Geometry, PartKind};
-use nudge::scene::{DEFAULT_SCENE, Method, Scene, SceneError, load, load_str, save, to_toml};
+use nudge::scene::{
+    DEFAULT_SCENE, Method, Scene, SceneError, load, load_str, save, saved_text, to_toml,
+};
 use std::path::{Path, PathBuf};
 
 /// The `.toml` files of a directory (relative to the crate root), sorted.
@@ -204,6 +207,7 @@ impl Fingerprint {
             if let Some(e) = c.restitution {
                 f.num(format!("{l}.restitution"), e);
             }
+            f.num(format!("{l}.fixed"), f64::from(u8::from(c.fixed)));
         }
         for (k, c) in s.constraints.iter().enumerate() {
             if let Some(t) = c.time {
@@ -266,6 +270,13 @@ fn every_shipped_scene_round_trips_bit_for_bit() {
             "{}: saving is not idempotent",
             path.display()
         );
+        let own = std::fs::read_to_string(&path).expect("readable");
+        assert_eq!(
+            saved_text(&original, &path),
+            own,
+            "{}: an unedited scene saves as its own text, byte for byte",
+            path.display()
+        );
     }
 }
 
@@ -302,15 +313,210 @@ fn edited_scenes_round_trip_too() {
         tol: 1e-10,
         max_step: 0.004,
     };
-    let text = to_toml(&scene);
-    let again = load_str(&text, "scenes/eggs.toml").unwrap_or_else(|e| panic!("{e}\n{text}"));
+    let path = Path::new("scenes/eggs.toml");
+    let fresh = to_toml(&scene);
+    let in_place = saved_text(&scene, path);
+    let original = std::fs::read_to_string(path).expect("readable");
+    assert_comments_kept(&original, &in_place, "edited eggs");
+    // egg1's edited mass takes the place of its density; egg2 keeps its own.
+    let egg = |text: &str, k: usize| text.split("[[body]]").nth(k).unwrap_or("").to_string();
+    let egg1 = egg(&in_place, 1);
     assert!(
-        again.bodies[0].inertia_given,
-        "an edited mass keeps the old inertia explicitly"
+        egg1.contains("\nmass = ") && !egg1.contains("density") && egg1.contains("\ninertia = "),
+        "{egg1}"
     );
-    assert!(!again.bodies[1].inertia_given);
-    scene.bodies[0].inertia_given = true;
-    assert_same(&scene, &again, "edited eggs");
+    assert!(
+        egg(&in_place, 2).contains("\ndensity = 1000.0\n"),
+        "{in_place}"
+    );
+    for (how, text) in [("new text", &fresh), ("in place", &in_place)] {
+        let mut scene = scene.clone();
+        let again = load_str(text, "scenes/eggs.toml").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert!(
+            again.bodies[0].inertia_given,
+            "{how}: an edited mass keeps the old inertia explicitly"
+        );
+        assert!(!again.bodies[1].inertia_given, "{how}");
+        scene.bodies[0].inertia_given = true;
+        assert_same(&scene, &again, &format!("edited eggs, {how}"));
+    }
+}
+
+/// Each line of `text` that is a comment (or ends in one), trimmed.
+fn comment_lines(text: &str) -> Vec<&str> {
+    text.lines()
+        .filter_map(|l| l.find('#').map(|i| l[i..].trim_end()))
+        .collect()
+}
+
+/// Every comment of `original` is in `saved`, in the same order.
+fn assert_comments_kept(original: &str, saved: &str, what: &str) {
+    let mut left = comment_lines(saved).into_iter();
+    for c in comment_lines(original) {
+        assert!(
+            left.any(|s| s == c),
+            "{what}: comment {c:?} lost or out of order:\n{saved}"
+        );
+    }
+}
+
+/// For each line of `a`, whether it is kept unchanged in `b` (a longest
+/// common subsequence of lines).
+fn kept_lines(a: &[&str], b: &[&str]) -> Vec<bool> {
+    let (n, m) = (a.len(), b.len());
+    let mut lcs = vec![vec![0usize; m + 1]; n + 1];
+    for i in (0..n).rev() {
+        for j in (0..m).rev() {
+            lcs[i][j] = if a[i] == b[j] {
+                lcs[i + 1][j + 1] + 1
+            } else {
+                lcs[i + 1][j].max(lcs[i][j + 1])
+            };
+        }
+    }
+    let (mut i, mut j, mut kept) = (0, 0, vec![false; n]);
+    while i < n && j < m {
+        if a[i] == b[j] {
+            kept[i] = true;
+            (i, j) = (i + 1, j + 1);
+        } else if lcs[i + 1][j] >= lcs[i][j + 1] {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    kept
+}
+
+/// An edit through the editor core on every shipped scene (a freed block,
+/// a velocity nudge, a nail, event controls, a scale) saved to a file:
+/// every comment is still there in order, the only original lines that
+/// changed are the edited keys' values, the file loads back to the edited
+/// scene bit for bit, and saving again changes nothing.
+#[test]
+fn editor_edits_keep_every_comment_and_untouched_line_of_every_scene() {
+    use nudge::edit::{Core, Edit, Editor};
+    use nudge::scene::{Block, StateQuantity};
+    let dir = std::env::temp_dir().join(format!("nudge-keep-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for path in toml_files("scenes") {
+        let what = path.display().to_string();
+        let original = std::fs::read_to_string(&path).expect("readable");
+        let mut e = Editor::open(&path).unwrap_or_else(|err| panic!("{what}: {err}"));
+        e.set_wall_clock(false);
+        if !e.scene().bodies[0].is_free(Block::Velocity) {
+            e.apply(Edit::SetBlock {
+                body: 0,
+                block: Block::Velocity,
+                free: true,
+            })
+            .unwrap_or_else(|err| panic!("{what}: {err}"));
+        }
+        e.apply(Edit::SelectTime(0.4 * e.scene().duration))
+            .unwrap_or_else(|err| panic!("{what}: {err}"));
+        e.apply(Edit::Nudge {
+            quantity: StateQuantity::Velocity,
+            delta: nudge::math::Vec3::new(0.01, 0.0, 0.02),
+        })
+        .unwrap_or_else(|err| panic!("{what}: {err}"));
+        e.apply(Edit::Nail {
+            quantities: vec![StateQuantity::Position],
+            exact: vec![],
+        })
+        .unwrap_or_else(|err| panic!("{what}: {err}"));
+        let has_events = !e.trajectory().events.is_empty();
+        let added = e.apply(Edit::AddEventControls {
+            normal: true,
+            restitution: true,
+        });
+        assert_eq!(added.is_ok(), has_events, "{what}: {added:?}");
+        e.apply(Edit::SetScale {
+            kind: "velocity".into(),
+            value: 2.0,
+        })
+        .unwrap_or_else(|err| panic!("{what}: {err}"));
+
+        let file = dir.join(path.file_name().expect("file name"));
+        e.save(Some(&file))
+            .unwrap_or_else(|err| panic!("{what}: {err}"));
+        let saved = std::fs::read_to_string(&file).expect("saved");
+        assert_comments_kept(&original, &saved, &what);
+        let (old, new): (Vec<&str>, Vec<&str>) =
+            (original.lines().collect(), saved.lines().collect());
+        let edited = [
+            "velocity",
+            "position",
+            "orientation",
+            "angular_velocity",
+            "free",
+        ];
+        for (line, kept) in old.iter().zip(kept_lines(&old, &new)) {
+            let key = line.split(" = ").next().unwrap_or("");
+            assert!(
+                kept || edited.contains(&key),
+                "{what}: line {line:?} changed, though the edit does not touch it:\n{saved}"
+            );
+        }
+        assert!(
+            saved.contains("\n[[constraint]]\nkind = \"nail\""),
+            "{what}:\n{saved}"
+        );
+        assert_eq!(
+            saved.contains("\n[[event_control]]\n"),
+            has_events,
+            "{what}"
+        );
+
+        let back = load(&file).unwrap_or_else(|err| panic!("{what}: {err}\n{saved}"));
+        assert_same(&e.scene_to_save(), &back, &what);
+
+        e.save(Some(&file))
+            .unwrap_or_else(|err| panic!("{what}: {err}"));
+        let twice = std::fs::read_to_string(&file).expect("saved");
+        assert_eq!(twice, saved, "{what}: saving again changed the file");
+        assert_eq!(
+            saved_text(&back, &file),
+            saved,
+            "{what}: the saved file, opened and saved, changed"
+        );
+    }
+    std::fs::remove_dir_all(&dir).expect("cleaned up");
+}
+
+/// A comment on the line of a value the edit changes stays on that line,
+/// and the comment above it stays above it.
+#[test]
+fn a_field_comment_next_to_a_changed_value_survives() {
+    let text = "\
+# A ball.
+duration = 1.0
+effects = [\"gravity\"]
+
+[[body]]
+name = \"ball\"
+shape = { type = \"sphere\", radius = 0.1 }
+density = 1000.0
+# Thrown up-range.
+velocity = [1, 0, 2]   # m/s, towards the hill
+free = [\"velocity\"]  # only the throw
+";
+    let path = Path::new("ball.toml");
+    let mut scene = load_str(text, "ball.toml").unwrap_or_else(|e| panic!("{e}"));
+    scene.bodies[0].velocity.x = 1.0 / 3.0;
+    let saved = saved_text(&scene, path);
+    assert_eq!(
+        saved,
+        text.replace(
+            "velocity = [1, 0, 2]   # m/s",
+            "velocity = [0.3333333333333333, 0, 2]   # m/s"
+        ),
+        "only the changed number is rewritten"
+    );
+    let back = load_str(&saved, "ball.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        back.bodies[0].velocity.x.to_bits(),
+        (1.0f64 / 3.0).to_bits()
+    );
 }
 
 #[test]

@@ -9,9 +9,13 @@
 //! scenes/eggs.toml:12:8: body "egg1" field mass must be greater than 0: -0.2; give the mass in kg, ...
 //! ```
 //!
-//! Saving ([`to_toml`]) writes text that loads back to the same [`Scene`]
-//! bit for bit in every number.
+//! Saving ([`save`], [`saved_text`]) writes text that loads back to the
+//! same [`Scene`] bit for bit in every number. A scene loaded from text is
+//! saved by editing that text in place, keeping the user's comments and
+//! layout; a scene built in code is printed afresh ([`to_toml`]). What is
+//! saved is decided once, for both.
 mod body;
+mod in_place;
 mod inertia;
 mod read;
 mod saved;
@@ -133,24 +137,41 @@ fn syntax_error(src: &Source<'_>, e: &toml::de::Error) -> SceneError {
     }
 }
 
-/// Serialise a scene to TOML text that loads back to the same scene
-/// bit-for-bit. Comments of the original file are not kept; `notes` is.
+/// The scene as new TOML text, in the format's own layout, that loads back
+/// to the same scene bit for bit. Comments of the text it was loaded from
+/// are not kept (`notes` is): [`saved_text`] keeps them.
 #[must_use]
 pub fn to_toml(scene: &Scene) -> String {
     write::to_toml(scene)
 }
 
-/// Write a scene atomically: a temporary file beside `path`, flushed to
-/// disk, then renamed over it.
+/// The text [`save`] writes for `scene` at `path`. For a scene loaded from
+/// text ([`Scene::source_text`]), that text with only what changed edited
+/// in place: every comment, blank line, key order and untouched value stays
+/// as written. Otherwise, or if that text cannot be edited in place, new
+/// text ([`to_toml`]). Either loads back from `path` to the same scene bit
+/// for bit.
+#[must_use]
+pub fn saved_text(scene: &Scene, path: &Path) -> String {
+    scene
+        .source_text
+        .as_deref()
+        .and_then(|text| in_place::edit(text, scene, &path.display().to_string()).ok())
+        .unwrap_or_else(|| to_toml(scene))
+}
+
+/// Write a scene atomically ([`saved_text`]): a temporary file beside
+/// `path`, flushed to disk, then renamed over it.
 ///
 /// # Errors
 /// Any I/O error creating, writing or renaming the file; the temporary file
 /// is removed on failure and `path` is left as it was.
 pub fn save(scene: &Scene, path: &Path) -> std::io::Result<()> {
+    let text = saved_text(scene, path);
     let tmp = path.with_extension("toml.tmp");
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(to_toml(scene).as_bytes())?;
+        f.write_all(text.as_bytes())?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
     })();

@@ -2,6 +2,7 @@ use crate::geometry::Geometry;
 use crate::math::{Mat3, Vec3};
 use nalgebra::{Isometry3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// A physical effect a scene may call for. Effects not listed are never
 /// evaluated by the simulator.
@@ -460,6 +461,10 @@ pub struct Scene {
     pub scales: Scales,
     pub event_controls: Vec<EventControl>,
     pub constraints: Vec<ConstraintSpec>,
+    /// The text the scene was loaded from, when it was: saving edits it in
+    /// place, so the user's comments and layout survive. `None` for scenes
+    /// built in code, which are saved as new text.
+    pub source_text: Option<Arc<str>>,
 }
 
 impl Scene {

@@ -12,6 +12,7 @@ use crate::scene::model::{
 };
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
+use std::sync::Arc;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
@@ -155,6 +156,7 @@ pub(super) fn scene(src: &Source<'_>, doc: &Spanned<DeTable<'_>>) -> Result<Scen
         scales,
         event_controls,
         constraints,
+        source_text: Some(Arc::from(src.text)),
     };
     no_overlaps(src, &scene, &body_spans)?;
     Ok(scene)

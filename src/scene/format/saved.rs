@@ -1,6 +1,7 @@
 //! What saving writes: a [`Scene`] as an ordered list of TOML tables of
-//! plain values ([`sections`]). The writer ([`super::write`]) takes its
-//! content from here and decides only how the text looks.
+//! plain values ([`sections`]). Both writers take their content from here
+//! and differ only in how they write it: [`super::write`] prints it as new
+//! text, [`super::in_place`] edits the text the scene was loaded from.
 //!
 //! Every number is the model's own `f64`, so a writer that prints floats in
 //! shortest round-trip form gives text that loads back bit for bit. Three
@@ -47,6 +48,54 @@ impl Section {
     fn put(&mut self, key: &'static str, value: Value) {
         self.fields.push((key, value));
     }
+
+    /// The value saved under `key`, if any.
+    pub fn get(&self, key: &str) -> Option<&Value> {
+        self.fields.iter().find(|(k, _)| *k == key).map(|(_, v)| v)
+    }
+}
+
+/// The field that tells the elements of an array of tables apart (a body's
+/// name, an event control's event), when there is one.
+pub(super) fn identity(table: &str) -> Option<&'static str> {
+    match table {
+        "body" | "obstacle" => Some("name"),
+        "event_control" => Some("event"),
+        _ => None,
+    }
+}
+
+/// Whether two saved values are the same, floats compared bit for bit.
+pub(super) fn same_value(a: &Value, b: &Value) -> bool {
+    match (a, b) {
+        (Value::Float(x), Value::Float(y)) => x.to_bits() == y.to_bits(),
+        (Value::Array(x), Value::Array(y)) => {
+            x.len() == y.len() && x.iter().zip(y).all(|(p, q)| same_value(p, q))
+        }
+        (Value::Table(x), Value::Table(y)) => {
+            x.len() == y.len()
+                && x.iter()
+                    .zip(y)
+                    .all(|((kx, vx), (ky, vy))| kx == ky && same_value(vx, vy))
+        }
+        _ => a == b,
+    }
+}
+
+/// Whether two lists of fields are the same, in the same order.
+pub(super) fn same_fields(a: &[(&str, Value)], b: &[(&str, Value)]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|((ka, va), (kb, vb))| ka == kb && same_value(va, vb))
+}
+
+/// Whether two saved documents are the same.
+pub(super) fn same_sections(a: &[Section], b: &[Section]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.name == y.name && x.array == y.array && same_fields(&x.fields, &y.fields)
+        })
 }
 
 fn float(x: f64) -> Value {
