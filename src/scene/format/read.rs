@@ -50,8 +50,8 @@ pub(super) const DEFAULT_ROOT_TOL: f64 = 1e-12;
 /// Bodies penetrating deeper than this at t = 0 are rejected, m.
 pub(super) const OVERLAP_TOLERANCE: f64 = 1e-9;
 
-/// The constraint fields (those of [`ConstraintSpec`]).
-const CONSTRAINT_FIELDS: [&str; 8] = [
+/// The constraint fields (those of [`ConstraintSpec`]), in writing order.
+pub(super) const CONSTRAINT_FIELDS: [&str; 8] = [
     "kind",
     "body",
     "other",

@@ -16,6 +16,7 @@
 //!   from what the shape and mass imply (an edited mass), so a saved scene
 //!   keeps `inertia_given` as it was whenever it can. `mass` is always saved.
 use super::inertia::{implied, unit_props};
+use super::read::CONSTRAINT_FIELDS;
 use super::shape::{Owner, build};
 use super::source::Source;
 use super::write::inline;
@@ -337,16 +338,7 @@ pub(super) fn sections(scene: &Scene) -> Vec<Section> {
     for c in &scene.constraints {
         let mut s = Section::new("constraint", true);
         if let Ok(Value::Table(t)) = Value::try_from(c) {
-            for k in [
-                "kind",
-                "body",
-                "other",
-                "time",
-                "collision",
-                "side",
-                "quantities",
-                "target",
-            ] {
+            for k in CONSTRAINT_FIELDS {
                 if let Some(v) = t.get(k) {
                     s.put(k, v.clone());
                 }
