@@ -94,7 +94,8 @@ fn merge(
         .map(|(k, _)| *k)
         .chain(tables.iter().map(|(n, _)| *n))
         .collect();
-    let root_pos = doc.as_table().position();
+    // Parsed tables are numbered from 1: the top level comes before them.
+    let root_pos = doc.as_table().position().or(Some(0));
     let root = doc.as_table_mut();
     merge_fields(root, &base_top, &new_top, root_pos, moved)?;
     for (name, array) in tables {
@@ -611,6 +612,17 @@ mod tests {
             format!(
                 "duration = 1.0\neffects = []\n\n[accuracy]\n# integrator\nmethod = \"rk4\"\nstep = 0.001\n# tight\n# small steps\n\n{BALL}"
             )
+        );
+    }
+
+    #[test]
+    fn a_removed_last_top_level_key_leaves_its_comments_above_the_first_table() {
+        let text = format!("duration = 1.0\neffects = []\n# The story.\nnotes = \"x\"\n\n{BALL}");
+        let mut s = scene(&text);
+        s.notes.clear();
+        assert_eq!(
+            edited(&text, &s),
+            format!("duration = 1.0\neffects = []\n# The story.\n\n{BALL}")
         );
     }
 
