@@ -627,6 +627,22 @@ mod tests {
     }
 
     #[test]
+    fn a_table_the_text_lacks_goes_where_it_is_written() {
+        let text = format!("duration = 1.0\neffects = []\n\n# The ball.\n{BALL}");
+        let mut s = scene(&text);
+        s.accuracy.method = Method::Adaptive {
+            tol: 1e-10,
+            max_step: 0.01,
+        };
+        assert_eq!(
+            edited(&text, &s),
+            format!(
+                "duration = 1.0\neffects = []\n\n[accuracy]\nmethod = \"adaptive\"\ntol = 1e-10\nmax_step = 0.01\n\n# The ball.\n{BALL}"
+            )
+        );
+    }
+
+    #[test]
     fn a_removed_table_leaves_its_comments_for_the_next() {
         let nail = |t: &str, note: &str| {
             format!(
