@@ -148,6 +148,16 @@ pub enum EditError {
     Save(String),
 }
 
+/// Where a scene was saved.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Saved {
+    pub path: PathBuf,
+    /// Set when the text the scene was loaded from could not be edited in
+    /// place and the scene was written as new text: why (its comments and
+    /// layout are gone, every number is there).
+    pub layout_lost: Option<String>,
+}
+
 /// The editing core as the user interfaces see it.
 pub trait Core {
     /// Apply one edit atomically: on error nothing changes.
@@ -155,7 +165,7 @@ pub trait Core {
     /// A snapshot of everything the screen shows.
     fn view(&self) -> View;
     /// Save the edited scene (to `path`, or where it was loaded from).
-    fn save(&mut self, path: Option<&Path>) -> Result<PathBuf, EditError>;
+    fn save(&mut self, path: Option<&Path>) -> Result<Saved, EditError>;
     /// Whether there are unsaved edits.
     fn dirty(&self) -> bool;
     /// The JSON report (`nudge check --json` shape plus constraints).

@@ -354,6 +354,8 @@ fn save_then_load_reproduces_the_trajectory_bit_for_bit() {
     })
     .unwrap();
     let saved = e.save(None).unwrap();
+    assert_eq!(saved.layout_lost, None, "the text is kept");
+    let saved = saved.path;
     assert!(!e.dirty());
     let back = Editor::open(&saved).unwrap();
     assert_eq!(u(&back), u(&e));

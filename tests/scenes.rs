@@ -437,8 +437,10 @@ fn editor_edits_keep_every_comment_and_untouched_line_of_every_scene() {
         .unwrap_or_else(|err| panic!("{what}: {err}"));
 
         let file = dir.join(path.file_name().expect("file name"));
-        e.save(Some(&file))
+        let note = e
+            .save(Some(&file))
             .unwrap_or_else(|err| panic!("{what}: {err}"));
+        assert_eq!(note.layout_lost, None, "{what}: the text is kept");
         let saved = std::fs::read_to_string(&file).expect("saved");
         assert_comments_kept(&original, &saved, &what);
         let (old, new): (Vec<&str>, Vec<&str>) =
@@ -556,6 +558,68 @@ fn save_is_atomic_and_loads_back() {
     );
     let again = load(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_same(&scene, &again, "saved mug");
+    std::fs::remove_dir_all(&dir).expect("cleaned up");
+}
+
+/// A layout the editor does not edit in place (bodies as an inline array)
+/// is saved as new text: every number is kept, and the user is told that
+/// the comments were not, in the report of the save and on the status line.
+#[test]
+fn a_layout_not_edited_in_place_is_saved_as_new_text_and_the_user_is_told() {
+    use nudge::edit::{Core, Edit, Editor};
+    use nudge::scene::StateQuantity;
+    let dir = std::env::temp_dir().join(format!("nudge-inline-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("inline.toml");
+    std::fs::write(
+        &path,
+        "# A comment the new text cannot keep.\nduration = 1.0\neffects = [\"gravity\"]\n\
+         body = [{ name = \"ball\", shape = { type = \"sphere\", radius = 0.1 }, mass = 1.0, free = [\"velocity\"] }]\n",
+    )
+    .expect("written");
+    let mut e = Editor::open(&path).unwrap_or_else(|err| panic!("{err}"));
+    e.apply(Edit::Nudge {
+        quantity: StateQuantity::Velocity,
+        delta: nudge::math::Vec3::new(0.5, 0.0, 0.0),
+    })
+    .unwrap_or_else(|err| panic!("{err}"));
+    let saved = e.save(None).unwrap_or_else(|err| panic!("{err}"));
+    let why = saved
+        .layout_lost
+        .expect("the inline bodies are not edited in place");
+    assert!(why.contains("not edited in place"), "{why}");
+    let back = load(&path).unwrap_or_else(|err| panic!("{err}"));
+    assert_same(&e.scene_to_save(), &back, "inline scene saved as new text");
+
+    // Through the runner: the status line says so.
+    std::fs::write(
+        &path,
+        "# A comment the new text cannot keep.\nduration = 1.0\neffects = [\"gravity\"]\n\
+         body = [{ name = \"ball\", shape = { type = \"sphere\", radius = 0.1 }, mass = 1.0, free = [\"velocity\"] }]\n",
+    )
+    .expect("written");
+    let keys = dir.join("save.keys");
+    std::fs::write(&keys, "V l :w<CR>\n").expect("written");
+    let screen = dir.join("screen.txt");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nudge"))
+        .args(["run", "--size", "120x30"])
+        .arg(&path)
+        .arg("--keys")
+        .arg(&keys)
+        .arg("--screen")
+        .arg(&screen)
+        .output()
+        .expect("runs nudge");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&screen).expect("screen");
+    assert!(
+        text.contains("as new text, without its comments"),
+        "the status line warns:\n{text}"
+    );
     std::fs::remove_dir_all(&dir).expect("cleaned up");
 }
 

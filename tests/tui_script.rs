@@ -2,7 +2,7 @@
 //! App and widgets on a `TestBackend`, against a fake core with a fixed
 //! synthetic view. Whole-screen snapshots live in `tests/snapshots/`.
 
-use nudge::edit::{Core, Edit, EditError, Outcome};
+use nudge::edit::{Core, Edit, EditError, Outcome, Saved};
 use nudge::math::Vec3;
 use nudge::script::{Key, KeyScriptError, parse_keys, run_script};
 use nudge::tui::KEYMAP;
@@ -235,9 +235,12 @@ impl Core for FakeCore {
         v
     }
 
-    fn save(&mut self, path: Option<&FsPath>) -> Result<PathBuf, EditError> {
+    fn save(&mut self, path: Option<&FsPath>) -> Result<Saved, EditError> {
         self.dirty = false;
-        Ok(path.map_or_else(|| PathBuf::from("toss.toml"), FsPath::to_path_buf))
+        Ok(Saved {
+            path: path.map_or_else(|| PathBuf::from("toss.toml"), FsPath::to_path_buf),
+            layout_lost: None,
+        })
     }
 
     fn dirty(&self) -> bool {

@@ -2,7 +2,7 @@
 //! constraints, the current motion and the undo history. Every change goes
 //! through [`Core::apply`] and is atomic.
 
-use super::{Core, Edit, EditError, Expression, Outcome, Side, Vertical};
+use super::{Core, Edit, EditError, Expression, Outcome, Saved, Side, Vertical};
 use crate::controls::Controls;
 use crate::math::{Vec3, exp_so3, log_so3};
 use crate::report::{self, ConstraintRow};
@@ -1071,7 +1071,7 @@ impl Core for Editor {
         }
     }
 
-    fn save(&mut self, path: Option<&Path>) -> Result<PathBuf, EditError> {
+    fn save(&mut self, path: Option<&Path>) -> Result<Saved, EditError> {
         let target = path
             .map(Path::to_path_buf)
             .or_else(|| self.path.clone())
@@ -1081,11 +1081,14 @@ impl Core for Editor {
                     self.scene.name
                 ))
             })?;
-        scene::save(&self.scene_to_save(), &target)
+        let layout_lost = scene::save(&self.scene_to_save(), &target)
             .map_err(|e| EditError::Save(format!("{}: {e}", target.display())))?;
         self.path = Some(target.clone());
         self.saved_revision = self.revision;
-        Ok(target)
+        Ok(Saved {
+            path: target,
+            layout_lost,
+        })
     }
 
     fn dirty(&self) -> bool {

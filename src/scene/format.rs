@@ -153,21 +153,32 @@ pub fn to_toml(scene: &Scene) -> String {
 /// for bit.
 #[must_use]
 pub fn saved_text(scene: &Scene, path: &Path) -> String {
-    scene
-        .source_text
-        .as_deref()
-        .and_then(|text| in_place::edit(text, scene, &path.display().to_string()).ok())
-        .unwrap_or_else(|| to_toml(scene))
+    saved_text_noting(scene, path).0
+}
+
+/// [`saved_text`], and why the source text could not be kept when the
+/// scene had one but it is written as new text (comments and layout lost).
+fn saved_text_noting(scene: &Scene, path: &Path) -> (String, Option<String>) {
+    match scene.source_text.as_deref() {
+        None => (to_toml(scene), None),
+        Some(text) => match in_place::edit(text, scene, &path.display().to_string()) {
+            Ok(kept) => (kept, None),
+            Err(why) => (to_toml(scene), Some(why.to_string())),
+        },
+    }
 }
 
 /// Write a scene atomically ([`saved_text`]): a temporary file beside
-/// `path`, flushed to disk, then renamed over it.
+/// `path`, flushed to disk, then renamed over it. Returns why the text the
+/// scene was loaded from could not be kept, when it was written as new
+/// text instead (its comments and layout are then gone; the numbers are
+/// all there).
 ///
 /// # Errors
 /// Any I/O error creating, writing or renaming the file; the temporary file
 /// is removed on failure and `path` is left as it was.
-pub fn save(scene: &Scene, path: &Path) -> std::io::Result<()> {
-    let text = saved_text(scene, path);
+pub fn save(scene: &Scene, path: &Path) -> std::io::Result<Option<String>> {
+    let (text, unkept) = saved_text_noting(scene, path);
     let tmp = path.with_extension("toml.tmp");
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
@@ -178,7 +189,7 @@ pub fn save(scene: &Scene, path: &Path) -> std::io::Result<()> {
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
-    result
+    result.map(|()| unkept)
 }
 
 #[cfg(test)]

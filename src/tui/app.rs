@@ -710,8 +710,15 @@ impl App {
         let result = core.save(path);
         self.apply_ms.push(start.elapsed().as_secs_f64() * 1e3);
         match result {
-            Ok(p) => {
-                self.say(Level::Info, format!("wrote {}", p.display()));
+            Ok(saved) => {
+                let path = saved.path.display();
+                match saved.layout_lost {
+                    None => self.say(Level::Info, format!("wrote {path}")),
+                    Some(why) => self.say(
+                        Level::Warning,
+                        format!("wrote {path} as new text, without its comments ({why})"),
+                    ),
+                }
                 self.quit |= then_quit;
             }
             Err(e) => self.say(Level::Error, e.to_string()),

@@ -3,7 +3,7 @@
 
 use super::app::App;
 use super::theme::Theme;
-use crate::edit::{Core, Edit, EditError, Outcome};
+use crate::edit::{Core, Edit, EditError, Outcome, Saved};
 use crate::math::Vec3;
 use crate::view::{ConstraintRow, ControlRow, EventMark, Path, Status, View};
 use ratatui::layout::Rect;
@@ -182,10 +182,13 @@ impl Core for FakeCore {
         }
     }
 
-    fn save(&mut self, path: Option<&FsPath>) -> Result<PathBuf, EditError> {
+    fn save(&mut self, path: Option<&FsPath>) -> Result<Saved, EditError> {
         self.saved.push(path.map(FsPath::to_path_buf));
         self.dirty = false;
-        Ok(path.map_or_else(|| PathBuf::from("bounce.toml"), FsPath::to_path_buf))
+        Ok(Saved {
+            path: path.map_or_else(|| PathBuf::from("bounce.toml"), FsPath::to_path_buf),
+            layout_lost: None,
+        })
     }
 
     fn dirty(&self) -> bool {
