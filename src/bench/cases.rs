@@ -9,11 +9,15 @@ use std::time::Instant;
 
 /// The scenes of the paper (Popović et al. 2000, §3.2, §5, §6), compiled
 /// in so the benchmark does not depend on the working directory.
-pub(crate) const PAPER_SCENES: [(&str, &str); 6] = [
+pub(crate) const PAPER_SCENES: [(&str, &str); 7] = [
     ("eggs", include_str!("../../scenes/eggs.toml")),
     ("plank", include_str!("../../scenes/plank.toml")),
     ("mug", include_str!("../../scenes/mug.toml")),
     ("scissors", include_str!("../../scenes/scissors.toml")),
+    (
+        "scissors-bounce",
+        include_str!("../../scenes/scissors-bounce.toml"),
+    ),
     (
         "particle-parabola",
         include_str!("../../scenes/particle-parabola.toml"),
