@@ -1097,7 +1097,7 @@ fn a_t_handle_flips_about_its_intermediate_axis_and_not_the_others() {
 #[test]
 fn regression_the_pull_towards_the_geometric_normal_made_a_settle_creep() {
     use nudge::edit::{Core, Edit, Editor, Side, Vertical};
-    let mut e = Editor::new(load("mug-upright.toml"), None).unwrap();
+    let mut e = Editor::new(load("mug-frictionless.toml"), None).unwrap();
     e.set_wall_clock(false);
     for k in 1..=3 {
         e.apply(Edit::SelectEvent(k)).unwrap();
