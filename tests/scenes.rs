@@ -561,6 +561,10 @@ fn save_is_atomic_and_loads_back() {
     std::fs::remove_dir_all(&dir).expect("cleaned up");
 }
 
+/// A scene whose bodies are an inline array, with a comment.
+const INLINE_BODIES: &str = "# A comment the new text cannot keep.\nduration = 1.0\neffects = [\"gravity\"]\n\
+     body = [{ name = \"ball\", shape = { type = \"sphere\", radius = 0.1 }, mass = 1.0, free = [\"velocity\"] }]\n";
+
 /// A layout the editor does not edit in place (bodies as an inline array)
 /// is saved as new text: every number is kept, and the user is told that
 /// the comments were not, in the report of the save and on the status line.
@@ -571,12 +575,7 @@ fn a_layout_not_edited_in_place_is_saved_as_new_text_and_the_user_is_told() {
     let dir = std::env::temp_dir().join(format!("nudge-inline-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let path = dir.join("inline.toml");
-    std::fs::write(
-        &path,
-        "# A comment the new text cannot keep.\nduration = 1.0\neffects = [\"gravity\"]\n\
-         body = [{ name = \"ball\", shape = { type = \"sphere\", radius = 0.1 }, mass = 1.0, free = [\"velocity\"] }]\n",
-    )
-    .expect("written");
+    std::fs::write(&path, INLINE_BODIES).expect("written");
     let mut e = Editor::open(&path).unwrap_or_else(|err| panic!("{err}"));
     e.apply(Edit::Nudge {
         quantity: StateQuantity::Velocity,
@@ -592,12 +591,7 @@ fn a_layout_not_edited_in_place_is_saved_as_new_text_and_the_user_is_told() {
     assert_same(&e.scene_to_save(), &back, "inline scene saved as new text");
 
     // Through the runner: the status line says so.
-    std::fs::write(
-        &path,
-        "# A comment the new text cannot keep.\nduration = 1.0\neffects = [\"gravity\"]\n\
-         body = [{ name = \"ball\", shape = { type = \"sphere\", radius = 0.1 }, mass = 1.0, free = [\"velocity\"] }]\n",
-    )
-    .expect("written");
+    std::fs::write(&path, INLINE_BODIES).expect("written");
     let keys = dir.join("save.keys");
     std::fs::write(&keys, "V l :w<CR>\n").expect("written");
     let screen = dir.join("screen.txt");

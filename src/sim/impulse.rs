@@ -1021,24 +1021,30 @@ mod tests {
     #[test]
     fn the_impulse_jacobian_matches_central_differences() {
         for (name, ctx) in contexts() {
-            let j = ctx.jacobian();
-            let z = ctx.input();
-            for c in 0..z.len() {
-                let h = 1e-6 * z[c].abs().max(1.0);
-                let (mut zp, mut zm) = (z.clone(), z.clone());
-                zp[c] += h;
-                zm[c] -= h;
-                let (fp, fm) = (ctx.evaluate(&zp), ctx.evaluate(&zm));
-                for r in 0..OUTPUTS {
-                    let fd = (fp[r] - fm[r]) / (2.0 * h);
-                    // The model perturbs rotations to first order only, so
-                    // compare at the finite-difference error level.
-                    assert!(
-                        (fd - j[(r, c)]).abs() < 1e-6 * (1.0 + fd.abs()),
-                        "{name}: ∂out{r}/∂in{c}: {fd} vs {}",
-                        j[(r, c)]
-                    );
-                }
+            assert_matches_central_differences(&ctx, name);
+        }
+    }
+
+    /// `ctx.jacobian()` against central differences of `ctx.evaluate`
+    /// (in the friction mode `ctx` decided), every output and input.
+    pub(super) fn assert_matches_central_differences(ctx: &ImpulseCtx, name: &str) {
+        let j = ctx.jacobian();
+        let z = ctx.input();
+        for c in 0..z.len() {
+            let h = 1e-6 * z[c].abs().max(1.0);
+            let (mut zp, mut zm) = (z.clone(), z.clone());
+            zp[c] += h;
+            zm[c] -= h;
+            let (fp, fm) = (ctx.evaluate(&zp), ctx.evaluate(&zm));
+            for r in 0..OUTPUTS {
+                let fd = (fp[r] - fm[r]) / (2.0 * h);
+                // The model perturbs rotations to first order only, so
+                // compare at the finite-difference error level.
+                assert!(
+                    (fd - j[(r, c)]).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "{name}: ∂out{r}/∂in{c}: {fd} vs {}",
+                    j[(r, c)]
+                );
             }
         }
     }
@@ -1230,23 +1236,7 @@ mod patch_friction {
             let j = ctx.jacobian();
             let dual = ctx.jacobian_dual();
             assert!((&j - &dual).norm() < 1e-12 * dual.norm(), "{:?}", ctx.mode);
-            let z = ctx.input();
-            for c in 0..z.len() {
-                let h = 1e-6 * z[c].abs().max(1.0);
-                let (mut zp, mut zm) = (z.clone(), z.clone());
-                zp[c] += h;
-                zm[c] -= h;
-                let (fp, fm) = (ctx.evaluate(&zp), ctx.evaluate(&zm));
-                for r in 0..OUTPUTS {
-                    let fd = (fp[r] - fm[r]) / (2.0 * h);
-                    assert!(
-                        (fd - j[(r, c)]).abs() < 1e-6 * (1.0 + fd.abs()),
-                        "{:?}: ∂out{r}/∂in{c}: {fd} vs {}",
-                        ctx.mode,
-                        j[(r, c)]
-                    );
-                }
-            }
+            super::tests::assert_matches_central_differences(&ctx, &format!("{:?}", ctx.mode));
         }
     }
 
