@@ -189,6 +189,7 @@ fn methods_and_the_summary_line() {
             "plank",
             "mug",
             "scissors",
+            "scissors-bounce",
             "particle-parabola",
             "particle-polygon"
         ],
