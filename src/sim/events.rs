@@ -58,6 +58,35 @@ fn isometry(s: &BodyState) -> Isometry3<f64> {
     Isometry3::from_parts(Translation3::from(s.x), s.q)
 }
 
+/// First time `h + ḣ τ + ½ c τ² = lvl` going down; for a point already
+/// below `lvl` but rising, its next descent (the later root).
+fn first_cross(h: f64, hd: f64, c: f64, lvl: f64) -> f64 {
+    let h = h - lvl;
+    if h <= 0.0 && hd >= 0.0 && c >= 0.0 {
+        // Below the level but its bound never falls: it cannot get
+        // deeper than it is (a point sliding along a surface it
+        // touches, without gravity).
+        return f64::INFINITY;
+    }
+    if h <= 0.0 && hd <= 0.0 {
+        return 0.0;
+    }
+    if c < 0.0 {
+        let disc = hd * hd - 2.0 * c * h;
+        if disc < 0.0 {
+            return 0.0;
+        }
+        (hd + disc.sqrt()) / -c
+    } else if h <= 0.0 {
+        0.0
+    } else if hd < 0.0 {
+        // Convex lower bound: the tangent line's root is earlier.
+        h / -hd
+    } else {
+        f64::INFINITY
+    }
+}
+
 impl World<'_> {
     fn geometry(&self, p: Party) -> &Geometry {
         match p {
@@ -282,34 +311,6 @@ impl World<'_> {
                     })
                     .collect(),
             )
-        };
-        // First time `h + ḣ τ + ½ c τ² = lvl` going down; for a point already
-        // below `lvl` but rising, its next descent (the later root).
-        let first_cross = |h: f64, hd: f64, c: f64, lvl: f64| -> f64 {
-            let h = h - lvl;
-            if h <= 0.0 && hd >= 0.0 && c >= 0.0 {
-                // Below the level but its bound never falls: it cannot get
-                // deeper than it is (a point sliding along a surface it
-                // touches, without gravity).
-                return f64::INFINITY;
-            }
-            if h <= 0.0 && hd <= 0.0 {
-                return 0.0;
-            }
-            if c < 0.0 {
-                let disc = hd * hd - 2.0 * c * h;
-                if disc < 0.0 {
-                    return 0.0;
-                }
-                (hd + disc.sqrt()) / -c
-            } else if h <= 0.0 {
-                0.0
-            } else if hd < 0.0 {
-                // Convex lower bound: the tangent line's root is earlier.
-                h / -hd
-            } else {
-                f64::INFINITY
-            }
         };
         let mut best = [f64::INFINITY; K];
         let ball = |g: &crate::geometry::Geometry, part: usize| {
