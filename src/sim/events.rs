@@ -140,16 +140,11 @@ impl TurningPlane {
     ) -> Option<TurningPlane> {
         let n = c.normal;
         let p0 = c.point_b;
-        let va: Vec<Vec3> = part_a.vertices().iter().map(|v| s.x + s.q * v).collect();
-        let vb: Vec<Vec3> = part_b
-            .vertices()
-            .iter()
-            .map(|v| (pose_b * Point3::from(*v)).coords)
-            .collect();
-        let ha: Vec<f64> = va.iter().map(|p| n.dot(&(p - p0))).collect();
-        let hb: Vec<f64> = vb.iter().map(|p| -n.dot(&(p - p0))).collect();
-        let ea = edge_nearest(&va, &ha)?;
-        let eb = edge_nearest(&vb, &hb)?;
+        let (wa, wb) = (isometry(s) * part_a.offset, pose_b * part_b.offset);
+        // The obstacle's side first: most contacts are on its faces, and it
+        // has few vertices.
+        let eb = edge_nearest(world_vertices(part_b, wb).map(|p| (p, -n.dot(&(p - p0)))))?;
+        let ea = edge_nearest(world_vertices(part_a, wa).map(|p| (p, n.dot(&(p - p0)))))?;
         let denom = eb.dot(&ea.cross(&n));
         if denom.abs() < 0.05 {
             return None;
@@ -159,11 +154,10 @@ impl TurningPlane {
         let (exact, rem, w_max, alpha) = *terms;
         let g = exact.norm();
         let big_t = horizon.max(0.0);
-        let a = va
-            .iter()
-            .zip(&ha)
-            .map(|(p, &h)| {
+        let a = world_vertices(part_a, wa)
+            .map(|p| {
                 let q = p - p0;
+                let h = n.dot(&q);
                 let r = p - s.x;
                 let v = s.v + s.w.cross(&r);
                 let turn = (w_max * w_max + alpha) * r.norm();
@@ -180,11 +174,10 @@ impl TurningPlane {
                 (h, hd, acc)
             })
             .collect::<Vec<_>>();
-        let b = vb
-            .iter()
-            .zip(&hb)
-            .map(|(p, &h)| {
+        let b = world_vertices(part_b, wb)
+            .map(|p| {
                 let q = p - p0;
+                let h = -n.dot(&q);
                 let off_axis = (q - eb * eb.dot(&q)).norm();
                 (h, n.dot(&spin.cross(&q)), -wn * wn * off_axis)
             })
@@ -200,52 +193,74 @@ impl TurningPlane {
             })
     }
 
-    /// How long the plane keeps the parts at least `levels[i]` (m) apart:
-    /// every vertex of `a` above a level `l_a` and every vertex of `b`
-    /// below `l_b`, with `l_a − l_b` the asked level. The gap above it is
-    /// split between the two sides in a few proportions; the best split is
-    /// returned, capped at the horizon.
-    fn steps<const K: usize>(&self, levels: [f64; K]) -> [f64; K] {
+    /// Raises each of `steps` to how long the plane keeps the parts at
+    /// least `levels[i]` (m) apart, where that is longer: every vertex of
+    /// `a` above a level `l_a` and every vertex of `b` below `l_b`, with
+    /// `l_a − l_b` the asked level. The gap above it is split between the
+    /// two sides in a few proportions, the best split counts, and no step
+    /// goes past the horizon. A split is given up at the first vertex that
+    /// crosses before the step to beat (most tries do not beat it).
+    fn raise<const K: usize>(&self, levels: [f64; K], steps: &mut [f64; K]) {
         let lowest =
             |pts: &[(f64, f64, f64)]| pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
         let (min_a, min_b) = (lowest(&self.a), lowest(&self.b));
-        levels.map(|level| {
+        for (step, level) in steps.iter_mut().zip(levels) {
             let gap = min_a + min_b - level;
-            if gap.is_nan() || gap <= 0.0 {
-                return 0.0;
+            if gap.is_nan() || gap <= 0.0 || *step >= self.horizon {
+                continue;
             }
-            [0.5, 0.1, 0.01]
-                .iter()
-                .map(|&share| {
-                    let (la, lb) = (min_a - (1.0 - share) * gap, min_b - share * gap);
-                    let a = self
-                        .a
-                        .iter()
-                        .map(|&(h, hd, acc)| first_cross(h, hd, acc, la))
-                        .fold(f64::INFINITY, f64::min);
-                    self.b
-                        .iter()
-                        .map(|&(h, hd, acc)| first_cross(h, hd, acc, lb))
-                        .fold(a, f64::min)
-                })
-                .fold(0.0, f64::max)
-                .min(self.horizon)
-        })
+            for share in [0.5, 0.1, 0.01] {
+                let (la, lb) = (min_a - (1.0 - share) * gap, min_b - share * gap);
+                let mut until = self.horizon;
+                for (h, hd, acc, lvl) in self
+                    .a
+                    .iter()
+                    .map(|&(h, hd, acc)| (h, hd, acc, la))
+                    .chain(self.b.iter().map(|&(h, hd, acc)| (h, hd, acc, lb)))
+                {
+                    until = until.min(first_cross(h, hd, acc, lvl));
+                    if until <= *step {
+                        break;
+                    }
+                }
+                *step = step.max(until);
+            }
+        }
     }
 }
 
 /// The unit direction of the edge of a convex part that lies nearest a
-/// plane, given its vertices and their heights over it: the two lowest
+/// plane, from its vertices with their heights over it: the two lowest
 /// vertices, when the third is at least ten times further up (`None` for a
 /// vertex or a face nearest the plane).
-fn edge_nearest(points: &[Vec3], heights: &[f64]) -> Option<Vec3> {
-    let mut order: Vec<usize> = (0..points.len()).collect();
-    order.sort_by(|&i, &j| heights[i].total_cmp(&heights[j]));
-    let [i0, i1, i2] = [*order.first()?, *order.get(1)?, *order.get(2)?];
-    let (near, far) = (heights[i1] - heights[i0], heights[i2] - heights[i0]);
-    (far > 10.0 * near)
-        .then(|| (points[i1] - points[i0]).try_normalize(1e-12))
+fn edge_nearest(vertices: impl Iterator<Item = (Vec3, f64)>) -> Option<Vec3> {
+    // The three lowest, in one pass.
+    let mut low = [(Vec3::zeros(), f64::INFINITY); 3];
+    for v in vertices {
+        if v.1 < low[0].1 {
+            low = [v, low[0], low[1]];
+        } else if v.1 < low[1].1 {
+            low = [low[0], v, low[1]];
+        } else if v.1 < low[2].1 {
+            low[2] = v;
+        }
+    }
+    let [(p0, h0), (p1, h1), (_, h2)] = low;
+    (h2 - h0 > 10.0 * (h1 - h0))
+        .then(|| (p1 - p0).try_normalize(1e-12))
         .flatten()
+}
+
+/// The vertices of a part placed at `pose` (the owner's pose times the
+/// part's offset); none for balls and unbounded parts.
+fn world_vertices(part: &Part, pose: Isometry3<f64>) -> impl Iterator<Item = Vec3> + '_ {
+    let vertices = match &part.kind {
+        crate::geometry::PartKind::Convex { vertices, .. } => vertices.as_slice(),
+        _ => &[],
+    };
+    vertices
+        .iter()
+        .map(move |v| (pose * Point3::from(*v)).coords)
 }
 
 impl World<'_> {
@@ -477,6 +492,8 @@ impl World<'_> {
             )
         };
         let mut best = [f64::INFINITY; K];
+        // Part contacts with an obstacle and their fixed-plane steps.
+        let mut fixed: Vec<(&Contact, usize, [f64; K], bool)> = Vec::with_capacity(planes.len());
         let ball = |g: &crate::geometry::Geometry, part: usize| {
             matches!(g.parts[part].kind, crate::geometry::PartKind::Ball { .. })
         };
@@ -574,20 +591,9 @@ impl World<'_> {
                             *b = b.min(first_cross(h, hd, acc, level));
                         }
                     }
-                    // Crossing edges: a plane turning with them may certify
-                    // far longer than the fixed one (see `TurningPlane`).
-                    if let Party::Obstacle(o) = pair.b
-                        && let Some(plane) = TurningPlane::new(
-                            c,
-                            (&ga.parts[c.part_a], s, &terms_a),
-                            (&gb.parts[c.part_b], &self.scene.obstacles[o].pose),
-                            rem,
-                        )
-                    {
-                        let turned = plane.steps(levels);
-                        for (b, t) in step.iter_mut().zip(turned) {
-                            *b = b.max(t);
-                        }
+                    if let Party::Obstacle(o) = pair.b {
+                        fixed.push((c, o, step, false));
+                        continue;
                     }
                 }
             }
@@ -598,7 +604,31 @@ impl World<'_> {
                 return Some(best);
             }
         }
-        Some(best)
+        // Crossing edges against an obstacle: a plane turning with them may
+        // certify far longer than the fixed one (see `TurningPlane`). Only
+        // a part pair that binds the pair's step, short of the window's end,
+        // is worth one; the binding pair may change as steps grow.
+        loop {
+            let step = fixed.iter().fold(best, |m, (_, _, st, _)| {
+                std::array::from_fn(|k| m[k].min(st[k]))
+            });
+            let binding = fixed.iter().position(|(_, _, st, tried)| {
+                !tried && st.iter().zip(&step).any(|(s, m)| s <= m && *s < rem)
+            });
+            let Some(i) = binding else {
+                return Some(step);
+            };
+            let (c, o, st, tried) = &mut fixed[i];
+            *tried = true;
+            if let Some(plane) = TurningPlane::new(
+                c,
+                (&ga.parts[c.part_a], s, &terms_a),
+                (&gb.parts[c.part_b], &self.scene.obstacles[*o].pose),
+                rem,
+            ) {
+                plane.raise(levels, st);
+            }
+        }
     }
 
     /// Contact of a pair at time `t`, with the relative normal velocity at
@@ -934,7 +964,8 @@ mod tests {
                 continue;
             };
             let levels = [0.0, 0.5 * c.distance];
-            let steps = plane.steps(levels);
+            let mut steps = [0.0; 2];
+            plane.raise(levels, &mut steps);
             certified += 1;
             if steps[0] > 1e3 * c.distance / (s.w.norm() * 0.08 + s.v.norm()) {
                 long += 1;
