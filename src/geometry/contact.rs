@@ -369,11 +369,10 @@ pub fn part_near_points(
                     Some((sign * len, d / len * sign))
                 } else {
                     // On the surface: take the normal of the part pair's contact.
-                    let probe = Part {
-                        kind: PartKind::Ball { radius: 1e-9 },
-                        offset: Isometry3::identity(),
-                        shape: Some(parry3d_f64::shape::SharedShape::ball(1e-9)),
-                    };
+                    let probe = Part::new(
+                        PartKind::Ball { radius: 1e-9 },
+                        Some(parry3d_f64::shape::SharedShape::ball(1e-9)),
+                    );
                     let at = Isometry3::translation(p.x, p.y, p.z);
                     part_contact(&probe, &at, pb, pose_b, f64::INFINITY).map(|c| (0.0, c.normal))
                 }
@@ -582,9 +581,50 @@ pub fn contact(
     pose_b: &Isometry3<f64>,
     max_distance: f64,
 ) -> Option<Contact> {
-    // The first of equally close part pairs.
-    finite_part_contacts(a, pose_a, b, pose_b, max_distance)
-        .min_by(|x, y| x.distance.total_cmp(&y.distance))
+    // Ask first for the part pair whose bounding spheres are closest: its
+    // distance caps every other pair's (a pair whose spheres are farther
+    // apart cannot be closer, and `part_contact` skips it unasked). Of
+    // equally close part pairs the first in part order wins.
+    let pairs = || {
+        a.parts.iter().enumerate().flat_map(|(ia, pa)| {
+            b.parts
+                .iter()
+                .enumerate()
+                .map(move |(ib, pb)| ((ia, ib), pa, pb))
+        })
+    };
+    let query = |(ia, ib): (usize, usize), pa: &Part, pb: &Part, cap: f64| {
+        let mut c = part_contact(pa, pose_a, pb, pose_b, cap)?;
+        if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
+            return None;
+        }
+        c.part_a = ia;
+        c.part_b = ib;
+        Some(c)
+    };
+    let sphere_gap = |pa: &Part, pb: &Part| {
+        let ca = pose_a * Point3::from(pa.offset.translation.vector);
+        let cb = pose_b * Point3::from(pb.offset.translation.vector);
+        (ca - cb).norm() - pa.local_radius() - pb.local_radius()
+    };
+    let first = pairs()
+        .map(|(k, pa, pb)| (sphere_gap(pa, pb), k, pa, pb))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .and_then(|(_, k, pa, pb)| query(k, pa, pb, max_distance));
+    let cap = first.map_or(max_distance, |c| c.distance.min(max_distance));
+    let skip = first.map(|c| (c.part_a, c.part_b));
+    first
+        .into_iter()
+        .chain(
+            pairs()
+                .filter(|(k, _, _)| Some(*k) != skip)
+                .filter_map(|(k, pa, pb)| query(k, pa, pb, cap)),
+        )
+        .min_by(|x, y| {
+            x.distance
+                .total_cmp(&y.distance)
+                .then((x.part_a, x.part_b).cmp(&(y.part_a, y.part_b)))
+        })
 }
 
 #[cfg(test)]
@@ -718,6 +758,64 @@ mod tests {
                 assert!(d(t) >= d(s) - 1e-15, "({x},{z}) foot {s}");
             }
         }
+    }
+
+    /// `contact` asks the part pair with the nearest bounding spheres first
+    /// and caps the others by its distance: it must return exactly the
+    /// closest of all part contacts (the first of equals in part order),
+    /// for compounds in any pose, overlapping or apart, with or without a
+    /// distance limit.
+    #[test]
+    fn contact_is_the_closest_of_all_part_pairs() {
+        let cuboid = |x: f64, y: f64, z: f64| Geometry::cuboid(Vec3::new(x, y, z)).unwrap();
+        let body = Geometry::compound(vec![
+            (at(-0.3, 0.0, 0.0), cuboid(0.2, 0.05, 0.05)),
+            (at(0.3, 0.0, 0.1), cuboid(0.05, 0.2, 0.05)),
+            (at(0.0, 0.2, -0.1), Geometry::sphere(0.08).unwrap()),
+        ])
+        .unwrap();
+        let rack = Geometry::compound(vec![
+            (at(0.0, 0.0, 0.0), cuboid(0.5, 0.5, 0.02)),
+            (at(0.0, 0.0, 0.4), cuboid(0.02, 0.02, 0.4)),
+            (at(0.2, 0.0, 0.5), cuboid(0.2, 0.02, 0.02)),
+            (at(-0.2, 0.1, 0.3), Geometry::sphere(0.05).unwrap()),
+        ])
+        .unwrap();
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut apart, mut touching) = (0, 0);
+        for i in 0..500 {
+            let pose = Isometry3::from_parts(
+                Translation3::new(0.8 * next(), 0.8 * next(), 0.5 + 0.6 * next()),
+                UnitQuaternion::from_scaled_axis(Vec3::new(
+                    3.0 * next(),
+                    3.0 * next(),
+                    3.0 * next(),
+                )),
+            );
+            let limit = if i % 2 == 0 { f64::INFINITY } else { 0.2 };
+            let all = part_contacts(&body, &pose, &rack, &at(0.0, 0.0, 0.0), limit);
+            let want = all.iter().fold(None::<&Contact>, |m, c| match m {
+                Some(m) if m.distance <= c.distance => Some(m),
+                _ => Some(c),
+            });
+            let got = contact(&body, &pose, &rack, &at(0.0, 0.0, 0.0), limit);
+            assert_eq!(got.as_ref(), want, "pose {i}: {pose:?}");
+            match got {
+                Some(c) if c.distance > 0.0 => apart += 1,
+                Some(_) => touching += 1,
+                None => {}
+            }
+        }
+        assert!(
+            apart > 100 && touching > 20,
+            "{apart} apart, {touching} overlapping"
+        );
     }
 
     #[test]

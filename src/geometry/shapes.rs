@@ -29,11 +29,16 @@ pub enum GeometryError {
 /// One convex piece of a [`Geometry`].
 #[derive(Clone)]
 pub struct Part {
-    /// The piece's analytic description.
+    /// The piece's analytic description (fixed once built: the bounding
+    /// radius is derived from it).
     pub kind: PartKind,
     /// Pose of the piece in the owner's frame.
     pub offset: Isometry3<f64>,
     pub(crate) shape: Option<SharedShape>,
+    /// Radius of the piece's bounding sphere about its origin (see
+    /// [`Part::local_radius`]), kept because the contact queries' culling
+    /// asks for it for every part pair at every step.
+    radius: f64,
 }
 
 impl std::fmt::Debug for Part {
@@ -144,15 +149,14 @@ impl Part {
                 (f.normal.into_inner(), ids)
             })
             .collect();
-        Ok(Part {
-            kind: PartKind::Convex {
+        Ok(Part::new(
+            PartKind::Convex {
                 vertices: verts,
                 edges,
                 faces,
             },
-            offset: Isometry3::identity(),
-            shape: Some(SharedShape::new(hull)),
-        })
+            Some(SharedShape::new(hull)),
+        ))
     }
 
     /// The piece's vertices in the owner's frame (empty for balls and unbounded pieces).
@@ -170,7 +174,22 @@ impl Part {
     /// Radius of a sphere about the piece's own origin that contains it
     /// (infinite for unbounded pieces).
     pub fn local_radius(&self) -> f64 {
-        match &self.kind {
+        self.radius
+    }
+
+    /// A piece of the given kind and shape at the owner's origin.
+    pub(crate) fn new(kind: PartKind, shape: Option<SharedShape>) -> Part {
+        let radius = Part::bounding_radius(&kind);
+        Part {
+            kind,
+            offset: Isometry3::identity(),
+            shape,
+            radius,
+        }
+    }
+
+    fn bounding_radius(kind: &PartKind) -> f64 {
+        match kind {
             PartKind::Ball { radius } => *radius,
             PartKind::Convex { vertices, .. } => {
                 vertices.iter().map(|v| v.norm()).fold(0.0, f64::max)
@@ -198,11 +217,10 @@ impl Geometry {
     /// A sphere of the given radius, m.
     pub fn sphere(radius: f64) -> Result<Geometry, GeometryError> {
         let radius = positive("radius", radius)?;
-        Ok(Geometry::single(Part {
-            kind: PartKind::Ball { radius },
-            offset: Isometry3::identity(),
-            shape: Some(SharedShape::ball(radius)),
-        }))
+        Ok(Geometry::single(Part::new(
+            PartKind::Ball { radius },
+            Some(SharedShape::ball(radius)),
+        )))
     }
 
     /// A box with the given half extents, m.
@@ -297,23 +315,21 @@ impl Geometry {
             });
         }
         let n = normal / len;
-        Ok(Geometry::single(Part {
-            kind: PartKind::HalfSpace { normal: n },
-            offset: Isometry3::identity(),
-            shape: Some(SharedShape::halfspace(Unit::new_normalize(n))),
-        }))
+        Ok(Geometry::single(Part::new(
+            PartKind::HalfSpace { normal: n },
+            Some(SharedShape::halfspace(Unit::new_normalize(n))),
+        )))
     }
 
     /// The solid below `z = −κ x²`, drawn over `|x| ≤ half_width`.
     pub fn parabola(curvature: f64, half_width: f64) -> Result<Geometry, GeometryError> {
-        Ok(Geometry::single(Part {
-            kind: PartKind::Parabola {
+        Ok(Geometry::single(Part::new(
+            PartKind::Parabola {
                 curvature: positive("curvature", curvature)?,
                 half_width: positive("half width", half_width)?,
             },
-            offset: Isometry3::identity(),
-            shape: None,
-        }))
+            None,
+        )))
     }
 
     /// Whether every part is bounded (a body must be).
