@@ -183,36 +183,37 @@ const DOPRI_D: [f64; 7] = [
 ];
 
 /// One step of an explicit RK method from `z0` (whose `θ` part is zero).
-/// Returns the end value and the stage derivatives.
+/// Returns the end value and the stage derivatives, stage-major in one
+/// buffer (stage `i` at `[i·n, (i+1)·n)`, `n = z0.len()`): a step then
+/// costs three allocations, not one per stage.
 fn rk_step(
     tab: &Tableau,
     d: &BodyDynamics,
     z0: &[f64],
     h: f64,
     evals: &mut u64,
-) -> (Vec<f64>, Vec<Vec<f64>>) {
+) -> (Vec<f64>, Vec<f64>) {
     let n = z0.len();
     let s = tab.c.len();
-    let mut k: Vec<Vec<f64>> = Vec::with_capacity(s);
+    let mut k = vec![0.0; s * n];
     let mut zi = vec![0.0; n];
     for i in 0..s {
         zi.copy_from_slice(z0);
+        let (done, rest) = k.split_at_mut(i * n);
         for (j, aij) in tab.a[i].iter().enumerate() {
             if *aij != 0.0 {
-                for (zv, kv) in zi.iter_mut().zip(&k[j]) {
+                for (zv, kv) in zi.iter_mut().zip(&done[j * n..(j + 1) * n]) {
                     *zv += h * aij * kv;
                 }
             }
         }
-        let mut ki = vec![0.0; n];
-        rhs(d, &zi, &mut ki);
+        rhs(d, &zi, &mut rest[..n]);
         *evals += 1;
-        k.push(ki);
     }
     let mut z1 = z0.to_vec();
     for (i, bi) in tab.b.iter().enumerate() {
         if *bi != 0.0 {
-            for (zv, kv) in z1.iter_mut().zip(&k[i]) {
+            for (zv, kv) in z1.iter_mut().zip(&k[i * n..(i + 1) * n]) {
                 *zv += h * bi * kv;
             }
         }
@@ -233,8 +234,9 @@ pub struct Step {
     pub z0: Vec<f64>,
     /// Integrated vector at the end.
     pub z1: Vec<f64>,
-    /// Stage derivatives (Dormand–Prince only, for dense output).
-    pub k: Vec<Vec<f64>>,
+    /// Stage derivatives, stage-major (stage `i` at `[i·n, (i+1)·n)` with
+    /// `n = z0.len()`; Dormand–Prince only, for dense output).
+    pub k: Vec<f64>,
     /// Whether the step used the adaptive pair.
     pub adaptive: bool,
 }
@@ -318,7 +320,7 @@ pub fn step_dopri(
             let err: f64 = DOPRI5
                 .e
                 .iter()
-                .zip(&k)
+                .zip(k.chunks_exact(z0.len()))
                 .map(|(e, ki)| e * ki[i])
                 .sum::<f64>()
                 * h;
@@ -393,12 +395,13 @@ impl Step {
                 let y0 = self.z0[i];
                 let y1 = self.z1[i];
                 let ydiff = y1 - y0;
-                let bspl = self.h * self.k[0][i] - ydiff;
-                let r4 = ydiff - self.h * self.k[6][i] - bspl;
+                let stride = self.z0.len();
+                let bspl = self.h * self.k[i] - ydiff;
+                let r4 = ydiff - self.h * self.k[6 * stride + i] - bspl;
                 let r5: f64 = self.h
                     * DOPRI_D
                         .iter()
-                        .zip(&self.k)
+                        .zip(self.k.chunks_exact(stride))
                         .map(|(dd, kk)| dd * kk[i])
                         .sum::<f64>();
                 *zi = y0 + s * (ydiff + s1 * (bspl + s * (r4 + s1 * r5)));
