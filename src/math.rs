@@ -7,8 +7,10 @@
 //! `R = exp([r]×)` and `δθ = J_l(r) δr`.
 
 pub mod nnls;
+mod rng;
 mod so3;
 
+pub use rng::Rng;
 pub use so3::{
     Mat3, Vec3, exp_so3, left_jacobian, left_jacobian_inv, log_so3, reparameterize, right_jacobian,
     right_jacobian_inv, rotation_matrix, skew,

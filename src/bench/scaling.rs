@@ -7,7 +7,7 @@ use super::measure::{Plan, Timing, guarded, loglog_slope, measure};
 use super::table::{Align, Table, ms, num};
 use crate::controls::Controls;
 use crate::geometry::Geometry;
-use crate::math::Vec3;
+use crate::math::{Rng, Vec3};
 use crate::scene::{Block, Scene};
 use crate::sim::{SimOptions, simulate};
 use crate::testkit;
@@ -15,25 +15,6 @@ use std::io::{self, Write};
 
 /// Ball radius, m.
 const RADIUS: f64 = 0.05;
-
-/// A small deterministic generator (splitmix64).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in `[lo, hi)`.
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-}
 
 /// `n` balls on a grid in a box whose floor area grows with `n` (constant
 /// density, so collisions per ball stay about the same), with seeded random

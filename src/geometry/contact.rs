@@ -781,13 +781,8 @@ mod tests {
             (at(-0.2, 0.1, 0.3), Geometry::sphere(0.05).unwrap()),
         ])
         .unwrap();
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = crate::math::Rng(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.range(-1.0, 1.0);
         let (mut apart, mut touching) = (0, 0);
         for i in 0..500 {
             let pose = Isometry3::from_parts(

@@ -361,14 +361,9 @@ mod tests {
 
     #[test]
     fn exp_map_vectors_are_recovered_exactly() {
-        use crate::math::exp_so3;
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        use crate::math::{Rng, exp_so3};
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.range(-1.0, 1.0);
         for _ in 0..2000 {
             let r = Vec3::new(next(), next(), next()) * 1.8;
             let q = exp_so3(&r);

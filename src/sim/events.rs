@@ -883,24 +883,8 @@ impl World<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::exp_so3;
+    use crate::math::{Rng, exp_so3};
     use nalgebra::UnitQuaternion;
-
-    /// xorshift64*: a seeded, dependency-free stream of numbers in [0, 1).
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-        }
-
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.next()
-        }
-    }
 
     /// A blade (16 × 1 × 0.4 cm) whose lowest edge crosses the top edge
     /// of a static slab (40 × 40 × 4 cm) at a gap of 1e-9 to 1e-5 m, thrown
@@ -951,7 +935,7 @@ mod tests {
             let Some(c) = contact(&blade, &isometry(&s), &slab, &pose_b, f64::INFINITY) else {
                 continue;
             };
-            if rng.next() < 0.5 {
+            if rng.uniform() < 0.5 {
                 s.v = drift - s.w.cross(&(c.point_a - s.x));
             }
             let terms = (g, 0.0, s.w.norm(), 0.0);

@@ -1,5 +1,6 @@
 use super::constraint::{Constraint, ConstraintError};
 use crate::controls::Controls;
+use crate::math::Rng;
 use crate::scene::Scene;
 use crate::sim::{SimError, SimOptions, Trajectory, simulate};
 use nalgebra::{DMatrix, DVector};
@@ -297,26 +298,6 @@ fn bounded_kkt(
         unmet = (c * &du - r).norm();
     }
     (du, condition, unmet)
-}
-
-/// Gaussian samples from a small deterministic generator (SplitMix64 +
-/// Box–Muller), so updates are reproducible.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-
-    fn gauss(&mut self) -> f64 {
-        let (a, b) = (self.next(), self.next());
-        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    }
 }
 
 /// The signature of the events that can influence the constrained states:
