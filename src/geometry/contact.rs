@@ -141,17 +141,14 @@ fn part_contact(
     pose_b: &Isometry3<f64>,
     max_distance: f64,
 ) -> Option<Contact> {
-    let wa = pose_a * pa.offset;
-    let wb = pose_b * pb.offset;
     // Bounding spheres farther apart than `max_distance`: no contact to
     // report, and no need to ask parry (a bucket's far walls, most of a
     // compound's parts).
-    let gap = (wa.translation.vector - wb.translation.vector).norm()
-        - pa.local_radius()
-        - pb.local_radius();
-    if gap > max_distance {
+    if sphere_gap(pa, pose_a, pb, pose_b) > max_distance {
         return None;
     }
+    let wa = pose_a * pa.offset;
+    let wb = pose_b * pb.offset;
     match (&pa.kind, &pb.kind) {
         (_, PartKind::Parabola { curvature, .. }) => {
             let (d, n, p_a, p_b) = against_parabola(pa, &wa, &wb, *curvature)?;
@@ -216,6 +213,45 @@ pub fn part_contacts(
     finite_part_contacts(a, pose_a, b, pose_b, max_distance).collect()
 }
 
+/// Distance between the bounding spheres of two placed parts (negative
+/// when they overlap; −∞ for an unbounded part): no point of the parts is
+/// closer than this.
+fn sphere_gap(pa: &Part, pose_a: &Isometry3<f64>, pb: &Part, pose_b: &Isometry3<f64>) -> f64 {
+    let ca = pose_a * Point3::from(pa.offset.translation.vector);
+    let cb = pose_b * Point3::from(pb.offset.translation.vector);
+    (ca - cb).norm() - pa.local_radius() - pb.local_radius()
+}
+
+/// Every part pair of two geometries with its indices, in part order.
+fn part_pairs<'g>(
+    a: &'g Geometry,
+    b: &'g Geometry,
+) -> impl Iterator<Item = ((usize, usize), &'g Part, &'g Part)> + 'g {
+    a.parts.iter().enumerate().flat_map(move |(ia, pa)| {
+        b.parts
+            .iter()
+            .enumerate()
+            .map(move |(ib, pb)| ((ia, ib), pa, pb))
+    })
+}
+
+/// The contact of part pair `(ia, ib)` closer than `max_distance`, if it is
+/// finite, labelled with the pair.
+fn labelled_contact(
+    (ia, ib): (usize, usize),
+    (pa, pose_a): (&Part, &Isometry3<f64>),
+    (pb, pose_b): (&Part, &Isometry3<f64>),
+    max_distance: f64,
+) -> Option<Contact> {
+    let mut c = part_contact(pa, pose_a, pb, pose_b, max_distance)?;
+    if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
+        return None;
+    }
+    c.part_a = ia;
+    c.part_b = ib;
+    Some(c)
+}
+
 /// The finite part contacts closer than `max_distance`, in part order.
 fn finite_part_contacts<'g>(
     a: &'g Geometry,
@@ -224,16 +260,8 @@ fn finite_part_contacts<'g>(
     pose_b: &'g Isometry3<f64>,
     max_distance: f64,
 ) -> impl Iterator<Item = Contact> + 'g {
-    a.parts.iter().enumerate().flat_map(move |(ia, pa)| {
-        b.parts.iter().enumerate().filter_map(move |(ib, pb)| {
-            let mut c = part_contact(pa, pose_a, pb, pose_b, max_distance)?;
-            if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
-                return None;
-            }
-            c.part_a = ia;
-            c.part_b = ib;
-            Some(c)
-        })
+    part_pairs(a, b).filter_map(move |(k, pa, pb)| {
+        labelled_contact(k, (pa, pose_a), (pb, pose_b), max_distance)
     })
 }
 
@@ -585,40 +613,18 @@ pub fn contact(
     // distance caps every other pair's (a pair whose spheres are farther
     // apart cannot be closer, and `part_contact` skips it unasked). Of
     // equally close part pairs the first in part order wins.
-    let pairs = || {
-        a.parts.iter().enumerate().flat_map(|(ia, pa)| {
-            b.parts
-                .iter()
-                .enumerate()
-                .map(move |(ib, pb)| ((ia, ib), pa, pb))
-        })
-    };
-    let query = |(ia, ib): (usize, usize), pa: &Part, pb: &Part, cap: f64| {
-        let mut c = part_contact(pa, pose_a, pb, pose_b, cap)?;
-        if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
-            return None;
-        }
-        c.part_a = ia;
-        c.part_b = ib;
-        Some(c)
-    };
-    let sphere_gap = |pa: &Part, pb: &Part| {
-        let ca = pose_a * Point3::from(pa.offset.translation.vector);
-        let cb = pose_b * Point3::from(pb.offset.translation.vector);
-        (ca - cb).norm() - pa.local_radius() - pb.local_radius()
-    };
-    let first = pairs()
-        .map(|(k, pa, pb)| (sphere_gap(pa, pb), k, pa, pb))
+    let first = part_pairs(a, b)
+        .map(|(k, pa, pb)| (sphere_gap(pa, pose_a, pb, pose_b), k, pa, pb))
         .min_by(|x, y| x.0.total_cmp(&y.0))
-        .and_then(|(_, k, pa, pb)| query(k, pa, pb, max_distance));
+        .and_then(|(_, k, pa, pb)| labelled_contact(k, (pa, pose_a), (pb, pose_b), max_distance));
     let cap = first.map_or(max_distance, |c| c.distance.min(max_distance));
     let skip = first.map(|c| (c.part_a, c.part_b));
     first
         .into_iter()
         .chain(
-            pairs()
+            part_pairs(a, b)
                 .filter(|(k, _, _)| Some(*k) != skip)
-                .filter_map(|(k, pa, pb)| query(k, pa, pb, cap)),
+                .filter_map(|(k, pa, pb)| labelled_contact(k, (pa, pose_a), (pb, pose_b), cap)),
         )
         .min_by(|x, y| {
             x.distance
