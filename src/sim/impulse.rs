@@ -557,10 +557,10 @@ impl ImpulseCtx {
             return self.jacobian_jet();
         }
         if self.b.is_some() {
-            let j = self.jet_any::<24>();
+            let j = self.jet::<24>();
             DMatrix::from_column_slice(OUTPUTS, 24, j.as_slice())
         } else {
-            let j = self.jet_any::<12>();
+            let j = self.jet::<12>();
             DMatrix::from_column_slice(OUTPUTS, 12, j.as_slice())
         }
     }
@@ -572,10 +572,10 @@ impl ImpulseCtx {
     pub fn jacobian_jet(&self) -> DMatrix<f64> {
         assert!(self.friction == 0.0, "the jet Jacobian is frictionless");
         if self.b.is_some() {
-            let j = self.jet_any::<INPUTS_BODIES>();
+            let j = self.jet::<INPUTS_BODIES>();
             DMatrix::from_column_slice(OUTPUTS, INPUTS_BODIES, j.as_slice())
         } else {
-            let j = self.jet_any::<INPUTS_OBSTACLE>();
+            let j = self.jet::<INPUTS_OBSTACLE>();
             DMatrix::from_column_slice(OUTPUTS, INPUTS_OBSTACLE, j.as_slice())
         }
     }
@@ -601,18 +601,6 @@ impl ImpulseCtx {
             }
         }
         dirs
-    }
-
-    /// The impulse map's Jacobian (`N` inputs) with the geometry carried
-    /// along exactly the directions of [`ImpulseCtx::geometry_directions`].
-    fn jet_any<const N: usize>(&self) -> SMatrix<f64, OUTPUTS, N> {
-        let dirs = self.geometry_directions();
-        match dirs.len() {
-            3 => self.jet::<N, 3>(&dirs),
-            6 => self.jet::<N, 6>(&dirs),
-            9 => self.jet::<N, 9>(&dirs),
-            _ => self.jet::<N, 12>(&dirs),
-        }
     }
 
     /// Contact geometry with its derivatives along the configuration
@@ -746,7 +734,9 @@ impl ImpulseCtx {
         j
     }
 
-    fn jet<const N: usize, const G: usize>(&self, dirs: &[usize]) -> SMatrix<f64, OUTPUTS, N> {
+    /// The impulse map's Jacobian (`N` inputs), the geometry carried along
+    /// exactly the directions of [`ImpulseCtx::geometry_directions`].
+    fn jet<const N: usize>(&self) -> SMatrix<f64, OUTPUTS, N> {
         let p0 = self.param_offset();
         let JetGeometry {
             distance,
@@ -754,7 +744,7 @@ impl ImpulseCtx {
             point_a,
             point_b,
             ..
-        } = self.geometry_jet::<N, G>(dirs);
+        } = self.geometry_jet_any::<N>();
         let mut n = normal;
         if let Some(dev) = self.normal_dev {
             let t1 = n.cross_const(&self.tangent_axis).normalize();
