@@ -25,32 +25,40 @@ struct Session {
     dir: PathBuf,
 }
 
+/// Run the nudge binary with `args`; it must succeed (`what` names the run
+/// in the failure message, with nudge's stderr).
+fn nudge(what: &str, args: impl FnOnce(&mut Command) -> &mut Command) -> std::process::Output {
+    let out = args(&mut Command::new(env!("CARGO_BIN_EXE_nudge")))
+        .output()
+        .expect("runs nudge");
+    assert!(
+        out.status.success(),
+        "{what}: nudge failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 /// Replay `tests/sessions/<stem>.keys` on `scenes/<stem>.toml`.
 fn run(stem: &str) -> Session {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let dir = std::env::temp_dir().join(format!("nudge-session-{stem}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let out = Command::new(env!("CARGO_BIN_EXE_nudge"))
-        .current_dir(&dir)
-        .arg("run")
-        .arg(root.join("scenes").join(format!("{stem}.toml")))
-        .arg("--keys")
-        .arg(root.join("tests/sessions").join(format!("{stem}.keys")))
-        .args([
-            "--report",
-            "report.json",
-            "--screen",
-            "screen.txt",
-            "--size",
-            "100x30",
-        ])
-        .output()
-        .expect("runs nudge");
-    assert!(
-        out.status.success(),
-        "{stem}: nudge run failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    nudge(stem, |c| {
+        c.current_dir(&dir)
+            .arg("run")
+            .arg(root.join("scenes").join(format!("{stem}.toml")))
+            .arg("--keys")
+            .arg(root.join("tests/sessions").join(format!("{stem}.keys")))
+            .args([
+                "--report",
+                "report.json",
+                "--screen",
+                "screen.txt",
+                "--size",
+                "100x30",
+            ])
+    });
     let report: Value = serde_json::from_str(
         &std::fs::read_to_string(dir.join("report.json")).expect("report written"),
     )
@@ -488,17 +496,9 @@ fn scissors_bounce_somersault_and_land_on_the_coatrack_peg() {
 fn scissors_bounce_goal_is_not_met_by_the_unedited_throw() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let path = root.join("scenes/scissors-bounce.toml");
-    let out = Command::new(env!("CARGO_BIN_EXE_nudge"))
-        .arg("check")
-        .arg(&path)
-        .arg("--json")
-        .output()
-        .expect("runs nudge");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = nudge("check scissors-bounce", |c| {
+        c.arg("check").arg(&path).arg("--json")
+    });
     let report: Value = serde_json::from_slice(&out.stdout).expect("report is JSON");
     let scene = nudge::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let misses = scissors_bounce_misses(&report, &scene);
