@@ -1015,6 +1015,129 @@ mod tests {
     use crate::math::{Rng, exp_so3};
     use nalgebra::UnitQuaternion;
 
+    const G: Vec3 = Vec3::new(0.0, 0.0, -9.81);
+
+    /// A random vector, each component in `[−1, 1]`.
+    fn random(rng: &mut Rng) -> Vec3 {
+        Vec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        )
+    }
+
+    /// The static slab (40 × 40 × 4 cm, top face at z = 4 cm) the plane
+    /// tests throw bodies at.
+    struct Slab {
+        geometry: Geometry,
+        pose: Isometry3<f64>,
+    }
+
+    impl Slab {
+        fn new() -> Slab {
+            Slab {
+                geometry: Geometry::cuboid(Vec3::new(0.2, 0.2, 0.02)).unwrap(),
+                pose: Isometry3::from_parts(
+                    Translation3::new(0.0, 0.0, 0.02),
+                    UnitQuaternion::identity(),
+                ),
+            }
+        }
+
+        /// Its vertices, world.
+        fn vertices(&self) -> Vec<Vec3> {
+            self.geometry.parts[0]
+                .vertices()
+                .iter()
+                .map(|v| (self.pose * Point3::from(*v)).coords)
+                .collect()
+        }
+
+        /// The distance of `body` in state `s` (infinite without a contact).
+        fn distance(&self, body: &Geometry, s: &BodyState) -> f64 {
+            contact(
+                body,
+                &isometry(s),
+                &self.geometry,
+                &self.pose,
+                f64::INFINITY,
+            )
+            .map_or(f64::INFINITY, |c| c.distance)
+        }
+
+        /// `s` moved along the contact normal to a gap of 1e-9 to 1e-5 m,
+        /// and its contact there; in half the cases the body instead turns
+        /// about the contact point as it drifts at `drift`. `None` without
+        /// a contact.
+        fn near(
+            &self,
+            rng: &mut Rng,
+            body: &Geometry,
+            mut s: BodyState,
+            drift: Vec3,
+        ) -> Option<(BodyState, Contact)> {
+            let gap = 10f64.powf(rng.range(-9.0, -5.0));
+            let query = |s: &BodyState| {
+                contact(
+                    body,
+                    &isometry(s),
+                    &self.geometry,
+                    &self.pose,
+                    f64::INFINITY,
+                )
+            };
+            let c0 = query(&s)?;
+            s.x -= c0.normal * (c0.distance - gap);
+            let c = query(&s)?;
+            if rng.uniform() < 0.5 {
+                s.v = drift - s.w.cross(&(c.point_a - s.x));
+            }
+            Some((s, c))
+        }
+
+        /// Asserts that `body` in state `st`, `tau` into a step certified
+        /// from `(s, c)`, is at least `level` away.
+        fn assert_apart(
+            &self,
+            body: &Geometry,
+            st: &BodyState,
+            (level, tau, step): (f64, f64, f64),
+            (s, c): (&BodyState, &Contact),
+        ) {
+            let d = self.distance(body, st);
+            assert!(
+                d >= level - 1e-12,
+                "distance {d:.3e} below level {level:.3e} at τ = {tau:.3e} of a \
+                 certified {step:.3e} s (gap {:.3e}, v {:?}, ω {:?})",
+                c.distance,
+                s.v,
+                s.w
+            );
+        }
+    }
+
+    /// The exact motion from `s` of a torque-free isotropic body: constant
+    /// spin, parabolic flight.
+    fn exact(s: BodyState) -> impl Fn(f64) -> BodyState {
+        move |tau| BodyState {
+            x: s.x + s.v * tau + 0.5 * G * tau * tau,
+            q: exp_so3(&(s.w * tau)) * s.q,
+            ..s
+        }
+    }
+
+    /// Times over a certified step: uniform, and ever closer to its end.
+    fn samples(step: f64) -> impl Iterator<Item = f64> {
+        (0..=200)
+            .map(move |k| step * f64::from(k) / 200.0)
+            .chain((1..40).map(move |k| step * (1.0 - 0.5f64.powi(k))))
+    }
+
+    /// `h + ḣ τ + ½ ḧ τ²` of a bound `(h, ḣ, ḧ)`.
+    fn bound((h, hd, acc): (f64, f64, f64), tau: f64) -> f64 {
+        h + hd * tau + 0.5 * acc * tau * tau
+    }
+
     /// A blade (16 × 1 × 0.4 cm) whose lowest edge crosses the top edge
     /// of a static slab (40 × 40 × 4 cm) at a gap of 1e-9 to 1e-5 m, thrown
     /// under gravity with a random velocity (to 3 m/s per axis) and spin (to
@@ -1028,13 +1151,8 @@ mod tests {
     /// and a missing Coriolis, spin or axis term, each fail this test.
     #[test]
     fn the_turning_plane_bounds_every_vertex_and_never_certifies_past_a_contact() {
-        let slab = Geometry::cuboid(Vec3::new(0.2, 0.2, 0.02)).unwrap();
+        let slab = Slab::new();
         let blade = Geometry::cuboid(Vec3::new(0.08, 0.005, 0.002)).unwrap();
-        let pose_b = Isometry3::from_parts(
-            Translation3::new(0.0, 0.0, 0.02),
-            UnitQuaternion::identity(),
-        );
-        let g = Vec3::new(0.0, 0.0, -9.81);
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
         let (mut certified, mut long) = (0, 0);
         for _ in 0..400 {
@@ -1042,36 +1160,25 @@ mod tests {
             let q = exp_so3(&Vec3::new(0.0, 0.0, rng.range(-0.6, 0.6)))
                 * exp_so3(&Vec3::new(0.0, rng.range(0.05, 0.5), 0.0))
                 * exp_so3(&Vec3::new(rng.range(0.1, 0.6), 0.0, 0.0));
-            let mut random = || {
-                Vec3::new(
-                    rng.range(-1.0, 1.0),
-                    rng.range(-1.0, 1.0),
-                    rng.range(-1.0, 1.0),
-                )
-            };
-            let (v, w, drift) = (3.0 * random(), 30.0 * random(), 0.02 * random());
-            let mut s = BodyState {
+            let (v, w, drift) = (
+                3.0 * random(&mut rng),
+                30.0 * random(&mut rng),
+                0.02 * random(&mut rng),
+            );
+            let s = BodyState {
                 x: Vec3::new(0.2 + rng.range(-0.02, 0.02), rng.range(-0.05, 0.05), 0.1),
                 q,
                 v,
                 w,
             };
-            let gap = 10f64.powf(rng.range(-9.0, -5.0));
-            let Some(c0) = contact(&blade, &isometry(&s), &slab, &pose_b, f64::INFINITY) else {
+            let Some((s, c)) = slab.near(&mut rng, &blade, s, drift) else {
                 continue;
             };
-            s.x -= c0.normal * (c0.distance - gap);
-            let Some(c) = contact(&blade, &isometry(&s), &slab, &pose_b, f64::INFINITY) else {
-                continue;
-            };
-            if rng.uniform() < 0.5 {
-                s.v = drift - s.w.cross(&(c.point_a - s.x));
-            }
-            let terms = (g, 0.0, s.w.norm(), 0.0);
+            let terms = (G, 0.0, s.w.norm(), 0.0);
             let Some(plane) = TurningPlane::new(
                 &c,
                 (&blade.parts[0], &s, &terms),
-                (&slab.parts[0], &pose_b),
+                (&slab.geometry.parts[0], &slab.pose),
                 0.05,
             ) else {
                 continue;
@@ -1083,25 +1190,12 @@ mod tests {
             if steps[0] > 1e3 * c.distance / (s.w.norm() * 0.08 + s.v.norm()) {
                 long += 1;
             }
-            let at = |tau: f64| BodyState {
-                x: s.x + s.v * tau + 0.5 * g * tau * tau,
-                q: exp_so3(&(s.w * tau)) * s.q,
-                ..s
-            };
+            let at = exact(s);
             let normal = |tau: f64| exp_so3(&(plane.spin * tau)) * c.normal;
             let va = blade.parts[0].vertices();
-            let vb: Vec<Vec3> = slab.parts[0]
-                .vertices()
-                .iter()
-                .map(|v| (pose_b * Point3::from(*v)).coords)
-                .collect();
-            let bound =
-                |(h, hd, acc): (f64, f64, f64), tau: f64| h + hd * tau + 0.5 * acc * tau * tau;
+            let vb = slab.vertices();
             for (&step, &level) in steps.iter().zip(&levels) {
-                let samples = (0..=200)
-                    .map(|k| step * f64::from(k) / 200.0)
-                    .chain((1..40).map(|k| step * (1.0 - 0.5f64.powi(k))));
-                for tau in samples {
+                for tau in samples(step) {
                     let st = at(tau);
                     let n = normal(tau);
                     for (p, &b) in va.iter().zip(&plane.a) {
@@ -1120,16 +1214,7 @@ mod tests {
                             bound(b, tau)
                         );
                     }
-                    let d = contact(&blade, &isometry(&st), &slab, &pose_b, f64::INFINITY)
-                        .map_or(f64::INFINITY, |c| c.distance);
-                    assert!(
-                        d >= level - 1e-12,
-                        "distance {d:.3e} below level {level:.3e} at τ = {tau:.3e} of a \
-                         certified {step:.3e} s (gap {:.3e}, v {:?}, ω {:?})",
-                        c.distance,
-                        s.v,
-                        s.w
-                    );
+                    slab.assert_apart(&blade, &st, (level, tau, step), (&s, &c));
                 }
             }
         }
@@ -1152,13 +1237,8 @@ mod tests {
     /// this test.
     #[test]
     fn the_face_plane_bounds_every_vertex_and_never_certifies_past_a_contact() {
-        let slab = Geometry::cuboid(Vec3::new(0.2, 0.2, 0.02)).unwrap();
+        let slab = Slab::new();
         let plate = Geometry::cuboid(Vec3::new(0.1, 0.05, 0.01)).unwrap();
-        let pose_b = Isometry3::from_parts(
-            Translation3::new(0.0, 0.0, 0.02),
-            UnitQuaternion::identity(),
-        );
-        let g = Vec3::new(0.0, 0.0, -9.81);
         let mut rng = Rng(0x51_7cc1_b727_220a);
         let (mut certified, mut long) = (0, 0);
         for _ in 0..400 {
@@ -1169,15 +1249,12 @@ mod tests {
             let corner = rng.uniform() < 0.5;
             let roll = if corner { rng.range(-0.4, -0.02) } else { 0.0 };
             let q = exp_so3(&Vec3::new(0.0, pitch, 0.0)) * exp_so3(&Vec3::new(roll, 0.0, 0.0));
-            let mut random = || {
-                Vec3::new(
-                    rng.range(-1.0, 1.0),
-                    rng.range(-1.0, 1.0),
-                    rng.range(-1.0, 1.0),
-                )
-            };
-            let (v, w, drift) = (3.0 * random(), 30.0 * random(), 0.02 * random());
-            let mut s = BodyState {
+            let (v, w, drift) = (
+                3.0 * random(&mut rng),
+                30.0 * random(&mut rng),
+                0.02 * random(&mut rng),
+            );
+            let s = BodyState {
                 x: Vec3::new(
                     0.2 + rng.range(-0.07, 0.07) * pitch.cos(),
                     if corner {
@@ -1191,22 +1268,14 @@ mod tests {
                 v,
                 w,
             };
-            let gap = 10f64.powf(rng.range(-9.0, -5.0));
-            let Some(c0) = contact(&plate, &isometry(&s), &slab, &pose_b, f64::INFINITY) else {
+            let Some((s, c)) = slab.near(&mut rng, &plate, s, drift) else {
                 continue;
             };
-            s.x -= c0.normal * (c0.distance - gap);
-            let Some(c) = contact(&plate, &isometry(&s), &slab, &pose_b, f64::INFINITY) else {
-                continue;
-            };
-            if rng.uniform() < 0.5 {
-                s.v = drift - s.w.cross(&(c.point_a - s.x));
-            }
-            let terms = (g, 0.0, s.w.norm(), 0.0);
+            let terms = (G, 0.0, s.w.norm(), 0.0);
             let Some(plane) = FacePlane::new(
                 &c,
                 (&plate.parts[0], &s, &terms),
-                (&slab.parts[0], &pose_b),
+                (&slab.geometry.parts[0], &slab.pose),
                 0.05,
             ) else {
                 continue;
@@ -1218,28 +1287,15 @@ mod tests {
             if steps[0] > 10.0 * c.distance / (s.w.norm() * 0.12 + s.v.norm()) {
                 long += 1;
             }
-            let at = |tau: f64| BodyState {
-                x: s.x + s.v * tau + 0.5 * g * tau * tau,
-                q: exp_so3(&(s.w * tau)) * s.q,
-                ..s
-            };
+            let at = exact(s);
             // The face's normal and point, carried with the plate.
             let (m_body, c_body) = (
                 s.q.inverse() * plane.normal,
                 s.q.inverse() * (plane.point - s.x),
             );
-            let vb: Vec<Vec3> = slab.parts[0]
-                .vertices()
-                .iter()
-                .map(|v| (pose_b * Point3::from(*v)).coords)
-                .collect();
-            let bound =
-                |(h, hd, acc): (f64, f64, f64), tau: f64| h + hd * tau + 0.5 * acc * tau * tau;
+            let vb = slab.vertices();
             for (&step, &level) in steps.iter().zip(&levels) {
-                let samples = (0..=200)
-                    .map(|k| step * f64::from(k) / 200.0)
-                    .chain((1..40).map(|k| step * (1.0 - 0.5f64.powi(k))));
-                for tau in samples {
+                for tau in samples(step) {
                     let st = at(tau);
                     let (m, point) = (st.q * m_body, st.point(&c_body));
                     for (p, &b) in vb.iter().zip(&plane.b) {
@@ -1250,16 +1306,7 @@ mod tests {
                             bound(b, tau)
                         );
                     }
-                    let d = contact(&plate, &isometry(&st), &slab, &pose_b, f64::INFINITY)
-                        .map_or(f64::INFINITY, |c| c.distance);
-                    assert!(
-                        d >= level - 1e-12,
-                        "distance {d:.3e} below level {level:.3e} at τ = {tau:.3e} of a \
-                         certified {step:.3e} s (gap {:.3e}, v {:?}, ω {:?})",
-                        c.distance,
-                        s.v,
-                        s.w
-                    );
+                    slab.assert_apart(&plate, &st, (level, tau, step), (&s, &c));
                 }
             }
         }
