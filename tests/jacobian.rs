@@ -849,3 +849,80 @@ fn check_into_a_closed_pipe_stops_quietly() {
     assert!(out.status.success(), "exit {:?}: {stderr}", out.status);
     assert!(stderr.is_empty(), "nothing on stderr, got: {stderr}");
 }
+
+/// A plank dropped level across a box: its bottom face lands flat on the
+/// box's top, and the four corners of the patch (its long edges crossing
+/// the box's top edges) touch at the same instant. The event time is the
+/// earliest of the corners' own, so it has a kink in every column that
+/// tilts the plank (a roll lowers one long edge, whichever its sign): the
+/// one-sided quotients disagree there, and the tangent takes the midpoint
+/// of the one-sided derivatives, what central differences converge to,
+/// whichever corner the event search happened to end on.
+#[test]
+fn a_level_landing_takes_the_midpoint_of_its_kinked_event_time() {
+    let mut s = testkit::scene(0.3);
+    s.accuracy.root_tol = 1e-14;
+    let mut plank = body(
+        "plank",
+        Geometry::cuboid(Vec3::new(0.6, 0.1, 0.03)).unwrap(),
+        Vec3::new(0.05, 0.0, 0.75),
+    );
+    plank.velocity = Vec3::new(0.0, 0.0, -1.0);
+    plank.restitution = 0.5;
+    s.bodies.push(plank);
+    s.obstacles.push(obstacle(
+        "support",
+        Geometry::cuboid(Vec3::new(0.05, 0.2, 0.25)).unwrap(),
+        Vec3::new(0.0, 0.0, 0.25),
+    ));
+    free_all(&mut s);
+    let controls = Controls::new(&s);
+    let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
+    let first = tr.events.first().expect("the plank lands");
+    assert_eq!(
+        first.feature.patch.len(),
+        4,
+        "a four-corner patch: {}",
+        first.key
+    );
+    let dtt = first.dt_du.as_ref().expect("dt/du");
+    let central = FiniteDifference::new(&s, &controls, Scheme::Central).unwrap();
+    // A forward step of ε^(1/2) (1.5e-8 rad) tilts a corner by 1.5e-9 m,
+    // about what the distance query resolves on a flat contact: take the
+    // central step instead, so the one-sided quotient sees the kink.
+    let h = Scheme::Central.step(0.0);
+    let forward = FiniteDifference::with_steps(&s, &controls, Scheme::Forward, Some(h)).unwrap();
+    let (dtc, dtf) = (
+        central.event_time(0).unwrap(),
+        forward.event_time(0).unwrap(),
+    );
+    let names: Vec<&str> = controls
+        .free
+        .iter()
+        .map(|&i| controls.entries[i].name.as_str())
+        .collect();
+    let mut kinks = 0;
+    for c in 0..controls.m() {
+        let scale = dtc[c].abs().max(1e-3);
+        assert!(
+            (dtt[c] - dtc[c]).abs() / scale < 1e-6,
+            "{}: dt/du {} vs central {}",
+            names[c],
+            dtt[c],
+            dtc[c]
+        );
+        // Forward minus central is half the jump of the one-sided slopes.
+        if (dtf[c] - dtc[c]).abs() / scale > 1e-2 {
+            kinks += 1;
+        }
+    }
+    // Roll and pitch, in orientation and in angular velocity.
+    assert_eq!(
+        kinks,
+        4,
+        "the tilting columns have a kink: {:.3e} vs {:.3e} (tangent {:.3e})",
+        dtf.transpose(),
+        dtc.transpose(),
+        dtt.transpose()
+    );
+}

@@ -184,6 +184,26 @@ impl PatchCorner {
     }
 }
 
+impl PatchCorner {
+    /// The corner's gap (m): how far the party without the face stands
+    /// off the face there, along the face's normal; zero when the corner
+    /// touches, so it is this corner's own event function. It is
+    /// [`PatchCorner::height`] except where `b`'s edge crosses `a`'s face:
+    /// the corner point lies on `a`'s edge, in the face itself, so the gap
+    /// is measured at `b`'s edge instead.
+    pub fn gap<T: RealField>(&self, pa: &PoseT<T>, pb: &PoseT<T>) -> T {
+        match (&self.corner, self.face_on_a) {
+            (Corner::Crossing { a, b, .. }, true) => {
+                let c = closest_on_first_line(pb, b, pa, a);
+                let m = world_dir(pa, &self.face_normal);
+                let q = world_point(pa, &self.face_point);
+                m.dot(&(c - q))
+            }
+            _ => self.height(pa, pb).0,
+        }
+    }
+}
+
 /// A corner's weight in the patch centroid at height `h` over its face:
 /// `(1 − h/D)²` below the depth `D`, 0 above. It falls smoothly to 0 at
 /// `D`, so corners enter and leave the patch without a jump of the impulse
@@ -206,22 +226,31 @@ fn corner_point<T: RealField>(corner: &Corner, pa: &PoseT<T>, pb: &PoseT<T>) -> 
     match corner {
         Corner::A { p, .. } => world_point(pa, p),
         Corner::B { p, .. } => world_point(pb, p),
-        Corner::Crossing { a, b, .. } => {
-            // The point of a's edge line closest to b's edge line.
-            let p = world_point(pa, &a[0]);
-            let u = world_dir(pa, &(a[1] - a[0]));
-            let q = world_point(pb, &b[0]);
-            let v = world_dir(pb, &(b[1] - b[0]));
-            let w = &p - &q;
-            let (uu, uv, vv) = (u.dot(&u), u.dot(&v), v.dot(&v));
-            let (uw, vw) = (u.dot(&w), v.dot(&w));
-            let den = uu * vv.clone() - uv.clone() * uv.clone();
-            let s = (uv * vw - vv * uw) / den;
-            p + u * s
-        }
+        // The point of a's edge line closest to b's edge line.
+        Corner::Crossing { a, b, .. } => closest_on_first_line(pa, a, pb, b),
         // Balls never form patches (a ball touches in one point).
         Corner::Ball => world_point(pa, &Vec3::zeros()),
     }
+}
+
+/// The point of the first edge's line (end points `e` in the frame of
+/// pose `pe`) closest to the second edge's line (`f` at `pf`), world.
+fn closest_on_first_line<T: RealField>(
+    pe: &PoseT<T>,
+    e: &[Vec3; 2],
+    pf: &PoseT<T>,
+    f: &[Vec3; 2],
+) -> Vector3<T> {
+    let p = world_point(pe, &e[0]);
+    let u = world_dir(pe, &(e[1] - e[0]));
+    let q = world_point(pf, &f[0]);
+    let v = world_dir(pf, &(f[1] - f[0]));
+    let w = &p - &q;
+    let (uu, uv, vv) = (u.dot(&u), u.dot(&v), v.dot(&v));
+    let (uw, vw) = (u.dot(&w), v.dot(&w));
+    let den = uu * vv.clone() - uv.clone() * uv.clone();
+    let s = (uv * vw - vv * uw) / den;
+    p + u * s
 }
 
 /// Reduce a feature to a material point (its centroid).

@@ -668,6 +668,48 @@ impl ImpulseCtx {
         }
     }
 
+    /// The patch corners within `within` (m) of their face, each as the
+    /// gradient of its height with respect to the model's state inputs
+    /// (`δx, δθ, δv, δω` of `a`, then of `b`: 12 or 24 entries; heights
+    /// depend on the configuration only). A flat landing's event time is
+    /// the earliest of its corners' own, `min_i t_i(u)`: where two touch at
+    /// once it has a kink, and these give its one-sided derivatives (see
+    /// `Sim::saltation`). Empty for a contact of single features.
+    pub fn touching_corners(&self, within: f64) -> Vec<Vec<f64>> {
+        if self.feature.patch.is_empty() {
+            return Vec::new();
+        }
+        let seeds: Vec<DualSVec64<12>> = (0..12)
+            .map(|g| DualSVec64::new(0.0, Derivative::derivative_generic(Const::<12>, U1, g)))
+            .collect();
+        let pa = pose(&self.a, &seeds, 0);
+        let pb = match &self.b {
+            Some(b) => pose(b, &seeds, 6),
+            None => PoseT {
+                x: cv(&self.b_pose.translation.vector),
+                r: cm(self.b_pose.rotation.to_rotation_matrix().matrix()),
+            },
+        };
+        let ns = if self.b.is_some() { 24 } else { 12 };
+        self.feature
+            .patch
+            .iter()
+            .filter_map(|corner| {
+                let h = corner.gap(&pa, &pb);
+                if h.re.is_nan() || h.re.abs() > within {
+                    return None;
+                }
+                let eps = h.eps.unwrap_generic(Const::<12>, U1);
+                let mut row = vec![0.0; ns];
+                row[..6].copy_from_slice(&eps.as_slice()[..6]);
+                if ns == 24 {
+                    row[12..18].copy_from_slice(&eps.as_slice()[6..]);
+                }
+                Some(row)
+            })
+            .collect()
+    }
+
     /// The geometry jet along the directions the contact depends on.
     fn geometry_jet_any<const N: usize>(&self) -> JetGeometry<N> {
         let dirs = self.geometry_directions();

@@ -1389,18 +1389,46 @@ impl Sim<'_> {
             }
         }
         let jac = ctx.jacobian_with(params.iter().any(|&(_, c)| c < m));
-        let eq = jac.view((0, 0), (1, ns));
-        let denom = eq.iter().zip(fpre.iter()).map(|(e, f)| e * f).sum::<f64>();
+        // The event function's gradients E_q: that of the touching features,
+        // or for a patch the touching corners' gaps. A flat landing whose
+        // corners touch at once (a level plank's end face meeting a
+        // support's edge) has an event time `min_i t_i(u)` with a kink, and
+        // the feature pair the search happened to end on gives one of its
+        // one-sided derivatives at best (a vertex–vertex pair at zero
+        // distance has no normal at all), so the tangent would depend on
+        // the search's steps. The corners give every one-sided derivative;
+        // separating corners do not bound the event.
+        let dot =
+            |e: &[f64], f: &DVector<f64>| e.iter().zip(f.iter()).map(|(e, f)| e * f).sum::<f64>();
+        let mut rows: Vec<(Vec<f64>, f64)> = ctx
+            .touching_corners(10.0 * self.tol.root)
+            .into_iter()
+            .map(|row| {
+                let den = dot(&row, &fpre);
+                (row, den)
+            })
+            .filter(|(_, den)| *den < 0.0)
+            .collect();
+        if rows.is_empty() {
+            let eq: Vec<f64> = jac.view((0, 0), (1, ns)).iter().copied().collect();
+            let den = dot(&eq, &fpre);
+            rows.push((eq, den));
+        }
         // Grazing measure: the cosine between E_q and the configuration part
         // of F (velocities; E does not depend on them, so including the
-        // accelerations would only mix units into the ratio).
+        // accelerations would only mix units into the ratio), the smallest
+        // of the touching corners'.
         let config: f64 = (0..ns)
             .filter(|r| r % 12 < 6)
             .map(|r| fpre[r] * fpre[r])
             .sum::<f64>()
             .sqrt();
-        let ratio = denom.abs() / (eq.norm() * config);
-        if !ratio.is_finite() {
+        let ratios: Vec<f64> = rows
+            .iter()
+            .map(|(e, den)| den.abs() / (e.iter().map(|v| v * v).sum::<f64>().sqrt() * config))
+            .collect();
+        let ratio = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+        if !ratios.iter().all(|r| r.is_finite()) {
             return Err(nonfinite(ratio));
         }
         if ratio < self.opts.graze_tol {
@@ -1413,14 +1441,24 @@ impl Sim<'_> {
                 ratio,
             ));
         }
-        // dt_c/du = −E_q J⁻ / (E_q F⁻), 1 × m.
+        // dt_c/du = −E_q J⁻ / (E_q F⁻), 1 × m; at a kink, column by column
+        // the midpoint of the extreme one-sided derivatives: what central
+        // differences converge to, whichever corner the search named.
         let dt: Vec<f64> = (0..m)
             .map(|c| {
-                -eq.iter()
-                    .zip(jpre.column(c).iter())
-                    .map(|(e, j)| e * j)
-                    .sum::<f64>()
-                    / denom
+                let (lo, hi) = rows
+                    .iter()
+                    .map(|(e, den)| {
+                        -e.iter()
+                            .zip(jpre.column(c).iter())
+                            .map(|(e, j)| e * j)
+                            .sum::<f64>()
+                            / den
+                    })
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| {
+                        (lo.min(s), hi.max(s))
+                    });
+                0.5 * (lo + hi)
             })
             .collect();
         // Φ_q is the identity but for the velocity rows of each body (the
