@@ -438,6 +438,12 @@ impl World<'_> {
     /// `(ω_max, α_max)` of an integrated body (see [`World::bounds`]).
     fn spin_bounds(&self, i: usize, s: &BodyState, t: f64) -> (f64, f64) {
         let d = &self.traj.dynamics[i];
+        let Some(slide) = self.traj.slide(i, t, StateSide::After) else {
+            // Torque-free: the exact extremes of its motion.
+            return d.spin_envelope(s);
+        };
+        // Sliding, friction's torque spends energy: bounds from the energy
+        // and the momentum as they are now.
         let r = *s.q.to_rotation_matrix().matrix();
         let iw = r * d.inertia * r.transpose() * s.w;
         let l = iw.norm();
@@ -455,11 +461,7 @@ impl World<'_> {
             * 0.5
             * w_max
             * w_max;
-        let spin = self
-            .traj
-            .slide(i, t, StateSide::After)
-            .map_or(0.0, |sl| sl.spin_decel);
-        (w_max, (w_max * l / i_min).min(euler) + spin)
+        (w_max, (w_max * l / i_min).min(euler) + slide.spin_decel)
     }
 
     /// The largest safe advance over a gap (m) for any combination of the
