@@ -907,6 +907,11 @@ impl World<'_> {
             return Ok(None);
         }
         let mut last_positive: Option<f64> = None;
+        // Whether a Newton probe has landed short of the root: the gap
+        // closes ever slower (a convex approach, a corner turning in), so
+        // Newton from above never brackets it, while the certified steps'
+        // quadratic bound converges as fast. Probe again only near it.
+        let mut short = false;
         for _ in 0..10_000 {
             let sa = self.state(Party::Body(pair.a), t);
             let sb = self.state(pair.b, t);
@@ -940,15 +945,17 @@ impl World<'_> {
             if e > hit {
                 last_positive = Some(t);
             }
-            if rate < 0.0 {
+            if rate < 0.0 && (!short || e <= 1e3 * hit) {
                 // Newton probe: bracket the root early when it is near.
                 let tn = t - e / rate;
                 if tn > t
                     && tn <= t1
                     && let Some((cn, _)) = self.contact(pair, tn, f64::INFINITY)
-                    && cn.distance + skin <= 0.0
                 {
-                    return Ok(self.refine(pair, skin, t, tn, tol.root));
+                    if cn.distance + skin <= 0.0 {
+                        return Ok(self.refine(pair, skin, t, tn, tol.root));
+                    }
+                    short = true;
                 }
             }
             if ba.iter().chain(&bb).all(|&(a, b)| a <= 0.0 && b <= 0.0) {
