@@ -669,14 +669,33 @@ impl ImpulseCtx {
     }
 
     /// The patch corners within `within` (m) of their face, each as the
-    /// gradient of its height with respect to the model's state inputs
-    /// (`δx, δθ, δv, δω` of `a`, then of `b`: 12 or 24 entries; heights
+    /// gradient of its gap with respect to the model's state inputs
+    /// (`δx, δθ, δv, δω` of `a`, then of `b`: 12 or 24 entries; gaps
     /// depend on the configuration only). A flat landing's event time is
     /// the earliest of its corners' own, `min_i t_i(u)`: where two touch at
     /// once it has a kink, and these give its one-sided derivatives (see
-    /// `Sim::saltation`). Empty for a contact of single features.
+    /// `Sim::saltation`). Empty where fewer than two corners touch (no
+    /// kink).
     pub fn touching_corners(&self, within: f64) -> Vec<Vec<f64>> {
-        if self.feature.patch.is_empty() {
+        if self.feature.patch.len() < 2 {
+            return Vec::new();
+        }
+        // Gaps in plain numbers first: most corners of a patch hover, and
+        // only touching ones need their gradient.
+        let at =
+            |s: &BodyState| PoseT::<f64>::from_isometry(&Isometry3::from_parts(s.x.into(), s.q));
+        let plain = at(&self.a.state);
+        let plain_b = match &self.b {
+            Some(b) => at(&b.state),
+            None => PoseT::from_isometry(&self.b_pose),
+        };
+        let touching: Vec<&crate::geometry::PatchCorner> = self
+            .feature
+            .patch
+            .iter()
+            .filter(|c| c.gap(&plain, &plain_b).abs() <= within)
+            .collect();
+        if touching.len() < 2 {
             return Vec::new();
         }
         let seeds: Vec<DualSVec64<12>> = (0..12)
@@ -691,21 +710,16 @@ impl ImpulseCtx {
             },
         };
         let ns = if self.b.is_some() { 24 } else { 12 };
-        self.feature
-            .patch
-            .iter()
-            .filter_map(|corner| {
-                let h = corner.gap(&pa, &pb);
-                if h.re.is_nan() || h.re.abs() > within {
-                    return None;
-                }
-                let eps = h.eps.unwrap_generic(Const::<12>, U1);
+        touching
+            .into_iter()
+            .map(|corner| {
+                let eps = corner.gap(&pa, &pb).eps.unwrap_generic(Const::<12>, U1);
                 let mut row = vec![0.0; ns];
                 row[..6].copy_from_slice(&eps.as_slice()[..6]);
                 if ns == 24 {
                     row[12..18].copy_from_slice(&eps.as_slice()[6..]);
                 }
-                Some(row)
+                row
             })
             .collect()
     }

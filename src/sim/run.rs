@@ -1389,12 +1389,12 @@ impl Sim<'_> {
             }
         }
         let jac = ctx.jacobian_with(params.iter().any(|&(_, c)| c < m));
-        // The event function's gradients E_q: that of the touching features,
-        // or for a patch the touching corners' gaps. A flat landing whose
-        // corners touch at once (a level plank's end face meeting a
-        // support's edge) has an event time `min_i t_i(u)` with a kink, and
-        // the feature pair the search happened to end on gives one of its
-        // one-sided derivatives at best (a vertex–vertex pair at zero
+        // The event function's gradient E_q: that of the touching features,
+        // or, where two or more corners of a patch touch at once, each of
+        // theirs. A flat landing like that (a level plank's end face meeting
+        // a support's edge) has an event time `min_i t_i(u)` with a kink,
+        // and the feature pair the search happened to end on gives one of
+        // its one-sided derivatives at best (a vertex–vertex pair at zero
         // distance has no normal at all), so the tangent would depend on
         // the search's steps. The corners give every one-sided derivative;
         // separating corners do not bound the event.
@@ -1409,7 +1409,9 @@ impl Sim<'_> {
             })
             .filter(|(_, den)| *den < 0.0)
             .collect();
-        if rows.is_empty() {
+        if rows.len() < 2 {
+            // No kink: the touching features, as the search found them.
+            rows.clear();
             let eq: Vec<f64> = jac.view((0, 0), (1, ns)).iter().copied().collect();
             let den = dot(&eq, &fpre);
             rows.push((eq, den));
