@@ -482,20 +482,23 @@ impl ImpulseCtx {
         (out, decided)
     }
 
+    /// The parties' poses at the current state, in plain numbers.
+    fn poses(&self) -> (PoseT<f64>, PoseT<f64>) {
+        let at = |s: &BodyState| PoseT::from_isometry(&Isometry3::from_parts(s.x.into(), s.q));
+        let b = match &self.b {
+            Some(b) => at(&b.state),
+            None => PoseT::from_isometry(&self.b_pose),
+        };
+        (at(&self.a.state), b)
+    }
+
     /// Apply the impulse at the current state (deciding the friction mode).
     pub fn apply(&mut self) -> ImpulseResult {
         let z = self.input();
         let (out, mode) = self.model::<f64>(&z, None);
         self.mode = mode;
         // Re-derive the quantities the report needs with the same model.
-        let a_pose = PoseT::from_isometry(&Isometry3::from_parts(
-            self.a.state.x.into(),
-            self.a.state.q,
-        ));
-        let b_pose = match &self.b {
-            Some(b) => PoseT::from_isometry(&Isometry3::from_parts(b.state.x.into(), b.state.q)),
-            None => PoseT::from_isometry(&self.b_pose),
-        };
+        let (a_pose, b_pose) = self.poses();
         let geo = self.feature.evaluate(&a_pose, &b_pose);
         let mut n = geo.normal;
         if let Some(dev) = self.normal_dev {
@@ -682,13 +685,7 @@ impl ImpulseCtx {
         }
         // Gaps in plain numbers first: most corners of a patch hover, and
         // only touching ones need their gradient.
-        let at =
-            |s: &BodyState| PoseT::<f64>::from_isometry(&Isometry3::from_parts(s.x.into(), s.q));
-        let plain = at(&self.a.state);
-        let plain_b = match &self.b {
-            Some(b) => at(&b.state),
-            None => PoseT::from_isometry(&self.b_pose),
-        };
+        let (plain, plain_b) = self.poses();
         let touching: Vec<&crate::geometry::PatchCorner> = self
             .feature
             .patch
