@@ -3,7 +3,7 @@
 use nudge::controls::Controls;
 use nudge::geometry::Geometry;
 use nudge::math::Vec3;
-use nudge::scene::{Block, Effects, EventControl, Scene};
+use nudge::scene::{Block, Body, Effects, EventControl, Scene};
 use nudge::sim::{SimOptions, StateSide, simulate};
 use nudge::tangent::{FiniteDifference, Scheme, max_relative_error};
 use nudge::testkit::{self, body, body_with_inertia, ground, obstacle};
@@ -607,31 +607,18 @@ proptest::proptest! {
     }
 }
 
-/// A plank landing tilted about its long axis across a box: its lower
-/// long edge meets the box's top face in a segment whose ends are
-/// crossings of that edge with the box's top edges (no vertex of either
-/// body is there). The impulse acts at the centroid of that patch, which
-/// moves with both owners; the Jacobian through it must stay exact.
-#[test]
-fn a_patch_impact_across_a_box_keeps_an_exact_jacobian() {
-    let mut s = testkit::scene(0.5);
-    s.effects = Effects {
-        gravity: true,
-        collisions: true,
-        gyroscopic: true,
-        ..Default::default()
-    };
+/// A plank (1.2 × 0.2 × 0.06 m, restitution 0.5) centred at `at` above a
+/// 0.1 × 0.4 × 0.5 m box standing at the origin, set up further by `set`,
+/// every state block free.
+fn plank_over_box(duration: f64, at: Vec3, set: impl FnOnce(&mut Body)) -> Scene {
+    let mut s = testkit::scene(duration);
     let mut plank = body(
         "plank",
         Geometry::cuboid(Vec3::new(0.6, 0.1, 0.03)).unwrap(),
-        Vec3::new(0.05, 0.02, 0.75),
+        at,
     );
-    // Tilted about its long axis, and so slightly along it that one end
-    // of the patch touches 2e-5 m (20 µs) before the other.
-    plank.orientation = Vec3::new(0.05, 2e-4, 0.0);
-    plank.velocity = Vec3::new(0.3, 0.1, -1.0);
-    plank.angular_velocity = Vec3::new(0.2, 0.0, 0.3);
     plank.restitution = 0.5;
+    set(&mut plank);
     s.bodies.push(plank);
     s.obstacles.push(obstacle(
         "support",
@@ -639,6 +626,29 @@ fn a_patch_impact_across_a_box_keeps_an_exact_jacobian() {
         Vec3::new(0.0, 0.0, 0.25),
     ));
     free_all(&mut s);
+    s
+}
+
+/// A plank landing tilted about its long axis across a box: its lower
+/// long edge meets the box's top face in a segment whose ends are
+/// crossings of that edge with the box's top edges (no vertex of either
+/// body is there). The impulse acts at the centroid of that patch, which
+/// moves with both owners; the Jacobian through it must stay exact.
+#[test]
+fn a_patch_impact_across_a_box_keeps_an_exact_jacobian() {
+    let mut s = plank_over_box(0.5, Vec3::new(0.05, 0.02, 0.75), |plank| {
+        // Tilted about its long axis, and so slightly along it that one end
+        // of the patch touches 2e-5 m (20 µs) before the other.
+        plank.orientation = Vec3::new(0.05, 2e-4, 0.0);
+        plank.velocity = Vec3::new(0.3, 0.1, -1.0);
+        plank.angular_velocity = Vec3::new(0.2, 0.0, 0.3);
+    });
+    s.effects = Effects {
+        gravity: true,
+        collisions: true,
+        gyroscopic: true,
+        ..Default::default()
+    };
     let controls = Controls::new(&s);
     let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
     let first = tr.events.first().expect("the plank lands");
@@ -860,22 +870,10 @@ fn check_into_a_closed_pipe_stops_quietly() {
 /// whichever corner the event search happened to end on.
 #[test]
 fn a_level_landing_takes_the_midpoint_of_its_kinked_event_time() {
-    let mut s = testkit::scene(0.3);
+    let mut s = plank_over_box(0.3, Vec3::new(0.05, 0.0, 0.75), |plank| {
+        plank.velocity = Vec3::new(0.0, 0.0, -1.0);
+    });
     s.accuracy.root_tol = 1e-14;
-    let mut plank = body(
-        "plank",
-        Geometry::cuboid(Vec3::new(0.6, 0.1, 0.03)).unwrap(),
-        Vec3::new(0.05, 0.0, 0.75),
-    );
-    plank.velocity = Vec3::new(0.0, 0.0, -1.0);
-    plank.restitution = 0.5;
-    s.bodies.push(plank);
-    s.obstacles.push(obstacle(
-        "support",
-        Geometry::cuboid(Vec3::new(0.05, 0.2, 0.25)).unwrap(),
-        Vec3::new(0.0, 0.0, 0.25),
-    ));
-    free_all(&mut s);
     let controls = Controls::new(&s);
     let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
     let first = tr.events.first().expect("the plank lands");
