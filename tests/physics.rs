@@ -643,33 +643,42 @@ fn kept_event_searches_find_the_same_events_for_any_window() {
         let tr = simulate(&s, &controls, &opts).expect("simulates");
         tr.events
             .iter()
-            .map(|e| (e.t, e.a, format!("{:?}", e.b)))
+            .map(|e| (e.t, (e.a, format!("{:?}", e.b))))
             .collect::<Vec<_>>()
     };
     let reference = events(0.05);
-    let body_body = reference.iter().filter(|e| e.2.starts_with("Body")).count();
+    let body_body = reference
+        .iter()
+        .filter(|e| e.1.1.starts_with("Body"))
+        .count();
     assert!(
         reference.len() > 40 && body_body > 3,
         "{} events, {body_body} between balls",
         reference.len()
     );
     for window in [0.01, 0.2] {
-        let other = events(window);
-        assert_eq!(other.len(), reference.len(), "window {window}: event count");
-        for (a, b) in reference.iter().zip(&other) {
-            assert_eq!(
-                (a.1, &a.2),
-                (b.1, &b.2),
-                "window {window}: pairs at t = {}",
-                a.0
-            );
-            assert!(
-                (a.0 - b.0).abs() < 1e-9,
-                "window {window}: {} vs {}",
-                a.0,
-                b.0
-            );
-        }
+        assert_same_events(&reference, &events(window), window, 1e-9);
+    }
+}
+
+/// `other`, simulated with the longest search window `window` (s), has the
+/// events of `reference`: the same labels in the same order, at times
+/// within `tol` (s).
+fn assert_same_events<L: PartialEq + std::fmt::Debug>(
+    reference: &[(f64, L)],
+    other: &[(f64, L)],
+    window: f64,
+    tol: f64,
+) {
+    assert_eq!(other.len(), reference.len(), "window {window}: event count");
+    for (a, b) in reference.iter().zip(other) {
+        assert_eq!(a.1, b.1, "window {window}: at t = {}", a.0);
+        assert!(
+            (a.0 - b.0).abs() < tol,
+            "window {window}: {} vs {}",
+            a.0,
+            b.0
+        );
     }
 }
 
@@ -693,27 +702,12 @@ fn rocking_impacts_are_the_same_for_any_longest_window() {
         let tr = simulate(&s, &controls, &opts).expect("simulates");
         tr.events
             .iter()
-            .map(|e| (e.t, format!("{:?}", e.b), e.key.clone()))
+            .map(|e| (e.t, (format!("{:?}", e.b), e.key.clone())))
             .collect::<Vec<_>>()
     };
     let reference = events(0.05);
     assert!(reference.len() >= 10, "{} events", reference.len());
     for window in [0.2, 0.8] {
-        let other = events(window);
-        assert_eq!(other.len(), reference.len(), "window {window}: event count");
-        for (a, b) in reference.iter().zip(&other) {
-            assert_eq!(
-                (&a.1, &a.2),
-                (&b.1, &b.2),
-                "window {window}: at t = {}",
-                a.0
-            );
-            assert!(
-                (a.0 - b.0).abs() < 1e-8,
-                "window {window}: {} vs {}",
-                a.0,
-                b.0
-            );
-        }
+        assert_same_events(&reference, &events(window), window, 1e-8);
     }
 }
