@@ -53,16 +53,21 @@ fn vec3(z: &[f64], at: usize) -> Vec3 {
     Vec3::new(z[at], z[at + 1], z[at + 2])
 }
 
+/// `θ̇ = J_r⁻¹(θ) w`: the only rows of [`rhs`] that depend on `θ`.
+fn theta_rate(theta: &Vec3, w: &Vec3) -> Vec3 {
+    right_jacobian_inv(theta) * w
+}
+
 /// Right-hand side of the integrated system; `z` has one of the lengths of
 /// [`Columns`].
+#[inline(always)]
 pub fn rhs(d: &BodyDynamics, z: &[f64], dz: &mut [f64]) {
     let w = vec3(z, 0);
     let theta = vec3(z, 3);
     let iw = d.inertia * w;
     let f = -(d.inertia_inv * w.cross(&iw));
     dz[0..3].copy_from_slice(f.as_slice());
-    let th = right_jacobian_inv(&theta) * w;
-    dz[3..6].copy_from_slice(th.as_slice());
+    dz[3..6].copy_from_slice(theta_rate(&theta, &w).as_slice());
     if z.len() < Z_TRANSITION {
         return;
     }
@@ -185,11 +190,13 @@ const DOPRI_D: [f64; 7] = [
 /// One step of an explicit RK method from `z0` (whose `θ` part is zero).
 /// Returns the end value and the stage derivatives, stage-major in one
 /// buffer (stage `i` at `[i·n, (i+1)·n)`, `n = z0.len()`): a step then
-/// costs three allocations, not one per stage.
+/// costs three allocations, not one per stage. `first`, when given, is
+/// `f(z0)` (see [`first_stage`]) and is not evaluated again.
 fn rk_step(
     tab: &Tableau,
     d: &BodyDynamics,
     z0: &[f64],
+    first: Option<&[f64]>,
     h: f64,
     evals: &mut u64,
 ) -> (Vec<f64>, Vec<f64>) {
@@ -197,7 +204,14 @@ fn rk_step(
     let s = tab.c.len();
     let mut k = vec![0.0; s * n];
     let mut zi = vec![0.0; n];
-    for i in 0..s {
+    let start = match first {
+        Some(f0) => {
+            k[..n].copy_from_slice(f0);
+            1
+        }
+        None => 0,
+    };
+    for i in start..s {
         zi.copy_from_slice(z0);
         let (done, rest) = k.split_at_mut(i * n);
         for (j, aij) in tab.a[i].iter().enumerate() {
@@ -250,7 +264,7 @@ pub fn step_rk4(
     h: f64,
     evals: &mut u64,
 ) -> Step {
-    let (z1, _) = rk_step(&RK4, d, &z0, h, evals);
+    let (z1, _) = rk_step(&RK4, d, &z0, None, h, evals);
     Step {
         t0,
         h,
@@ -294,6 +308,17 @@ pub fn free_rotation(
 /// price of the tangents drops from about 3.5× to 2× a plain simulation).
 pub const TANGENT_TOL_FACTOR: f64 = 100.0;
 
+/// The first stage of a step from `z0`: `f(z0)`. An adaptive step that is
+/// retried shorter after a rejection starts from the same `z0` and needs it
+/// once; after an accepted Dormand–Prince step, [`Step::end_derivative`]
+/// gives it without an evaluation.
+pub fn first_stage(d: &BodyDynamics, z0: &[f64], evals: &mut u64) -> Vec<f64> {
+    let mut f0 = vec![0.0; z0.len()];
+    rhs(d, z0, &mut f0);
+    *evals += 1;
+    f0
+}
+
 /// Try one Dormand–Prince step; returns the step and its scaled error norm
 /// (accept when ≤ 1). Error control covers the state (`w`, `θ`) and, when
 /// it is integrated, the tangent `Y`: the larger of the two RMS norms, each
@@ -303,16 +328,20 @@ pub const TANGENT_TOL_FACTOR: f64 = 100.0;
 /// principal axis `w` is constant, so the state's error estimate is zero
 /// and the step grows to the largest allowed while the perturbations about
 /// that spin (the variational equation) still oscillate or grow.
+///
+/// `f0` is `f(z0)` ([`first_stage`] or [`Step::end_derivative`]).
+#[allow(clippy::too_many_arguments)]
 pub fn step_dopri(
     d: &BodyDynamics,
     t0: f64,
     q0: UnitQuaternion<f64>,
     z0: Vec<f64>,
+    f0: &[f64],
     h: f64,
     tol: f64,
     evals: &mut u64,
 ) -> (Step, f64) {
-    let (z1, k) = rk_step(&DOPRI5, d, &z0, h, evals);
+    let (z1, k) = rk_step(&DOPRI5, d, &z0, Some(f0), h, evals);
     let scaled_rms = |range: std::ops::Range<usize>, tol: f64| {
         let n = range.len();
         let mut sum = 0.0;
@@ -348,6 +377,21 @@ pub fn step_dopri(
 }
 
 impl Step {
+    /// `f` at the start of the next step, `z1` with its local rotation `θ`
+    /// reset to zero, without evaluating it: Dormand–Prince's last stage is
+    /// evaluated at `z1` itself (first same as last), and of `f` only the
+    /// `θ̇` rows depend on `θ`. `None` for an RK4 step.
+    pub fn end_derivative(&self) -> Option<Vec<f64>> {
+        if !self.adaptive {
+            return None;
+        }
+        let n = self.z0.len();
+        let mut f = self.k[(DOPRI5.c.len() - 1) * n..].to_vec();
+        let w = vec3(&self.z1, 0);
+        f[3..6].copy_from_slice(theta_rate(&Vec3::zeros(), &w).as_slice());
+        Some(f)
+    }
+
     /// End time.
     pub fn t1(&self) -> f64 {
         self.t0 + self.h
@@ -408,7 +452,7 @@ impl Step {
             }
             z
         } else {
-            rk_step(&RK4, d, &self.z0[..n], tau, evals).0
+            rk_step(&RK4, d, &self.z0[..n], None, tau, evals).0
         };
         (advance(&self.q0, &z), z)
     }
@@ -489,15 +533,48 @@ mod tests {
 
     /// Dense output reproduces the step end and is close to a fresh step inside.
     #[test]
+    fn the_end_derivative_is_the_next_steps_first_stage_exactly() {
+        let d = top();
+        for columns in [Columns::None, Columns::Transition, Columns::WithInertia] {
+            let z0 = initial(&Vec3::new(0.3, 2.0, 0.1), columns);
+            let mut evals = 0;
+            let f0 = first_stage(&d, &z0, &mut evals);
+            let (st, _) = step_dopri(
+                &d,
+                0.0,
+                UnitQuaternion::identity(),
+                z0,
+                &f0,
+                0.05,
+                1e-9,
+                &mut evals,
+            );
+            // The step turned the body: θ is not zero at its end.
+            assert!(vec3(&st.z1, 3).norm() > 0.05);
+            let mut next = st.z1.clone();
+            next[3..6].fill(0.0);
+            let fresh = first_stage(&d, &next, &mut evals);
+            let reused = st.end_derivative().expect("an adaptive step");
+            // Bit for bit: reusing it changes no result of the simulator.
+            assert_eq!(reused, fresh, "{columns:?}");
+        }
+        let z0 = initial(&Vec3::new(0.3, 2.0, 0.1), Columns::None);
+        let st = step_rk4(&d, 0.0, UnitQuaternion::identity(), z0, 0.05, &mut 0);
+        assert!(st.end_derivative().is_none());
+    }
+
+    #[test]
     fn dopri_dense_output_is_consistent() {
         let d = top();
         let z0 = initial(&Vec3::new(0.3, 2.0, 0.1), Columns::None);
         let mut evals = 0;
+        let f0 = first_stage(&d, &z0, &mut evals);
         let (st, err) = step_dopri(
             &d,
             0.0,
             UnitQuaternion::identity(),
             z0.clone(),
+            &f0,
             0.05,
             1e-9,
             &mut evals,
@@ -511,6 +588,7 @@ mod tests {
             0.0,
             UnitQuaternion::identity(),
             z0,
+            &f0,
             0.02,
             1e-9,
             &mut evals,

@@ -142,6 +142,15 @@ type Saltation = (DMatrix<f64>, DVector<f64>, f64);
 struct Cursor {
     q: UnitQuaternion<f64>,
     z: Vec<f64>,
+    /// `f(z)`, when the step that ended here already evaluated it
+    /// ([`Step::end_derivative`]): the next adaptive step starts with it.
+    f0: Option<Vec<f64>>,
+}
+
+impl Cursor {
+    fn new(q: UnitQuaternion<f64>, z: Vec<f64>) -> Cursor {
+        Cursor { q, z, f0: None }
+    }
 }
 
 fn reset_theta(mut z: Vec<f64>) -> Vec<f64> {
@@ -271,9 +280,11 @@ pub fn simulate(
             }],
         });
         let columns = rotation_columns(opts, &tracks[i].segments[0].j0, controls, i);
-        cursors.push(dynamics[i].integrate.then(|| Cursor {
-            q,
-            z: integrator::initial(&(q.inverse() * b.angular_velocity), columns),
+        cursors.push(dynamics[i].integrate.then(|| {
+            Cursor::new(
+                q,
+                integrator::initial(&(q.inverse() * b.angular_velocity), columns),
+            )
         }));
     }
     let col = |i: usize, b: Block| {
@@ -550,17 +561,32 @@ impl Sim<'_> {
                 (h, h)
             }
             Method::Adaptive { tol, max_step } => {
+                // Every try of this step starts from the same state, so
+                // with the same first stage.
+                let mut f0 = Vec::with_capacity(active.len());
+                for &i in &active {
+                    if let Some(c) = self.cursors[i].as_mut() {
+                        let f = match c.f0.take() {
+                            Some(f) => f,
+                            None => {
+                                integrator::first_stage(&self.traj.dynamics[i], &c.z, &mut evals)
+                            }
+                        };
+                        f0.push(f);
+                    }
+                }
                 let mut hh = h;
                 loop {
                     let mut steps = Vec::new();
                     let mut err: f64 = 0.0;
-                    for &i in &active {
+                    for (&i, f0) in active.iter().zip(&f0) {
                         if let Some(c) = &self.cursors[i] {
                             let (s, e) = integrator::step_dopri(
                                 &self.traj.dynamics[i],
                                 t,
                                 c.q,
                                 c.z.clone(),
+                                f0,
                                 hh,
                                 tol,
                                 &mut evals,
@@ -601,6 +627,7 @@ impl Sim<'_> {
             self.cursors[i] = Some(Cursor {
                 q,
                 z: reset_theta(s.z1.clone()),
+                f0: s.end_derivative(),
             });
             if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
                 seg.steps.push(s);
@@ -632,10 +659,7 @@ impl Sim<'_> {
             // Re-integrated from `tc` with other steps: its states move by
             // round-off, so its pairs are searched again.
             self.forget_searches(i);
-            self.cursors[i] = Some(Cursor {
-                q,
-                z: reset_theta(z),
-            });
+            self.cursors[i] = Some(Cursor::new(q, reset_theta(z)));
         }
     }
 
@@ -1318,9 +1342,11 @@ impl Sim<'_> {
         });
         // Resting and sliding bodies move in closed form: nothing to integrate.
         self.cursors[i] =
-            (self.traj.dynamics[i].integrate && !rest && slide.is_none()).then(|| Cursor {
-                q: start.q,
-                z: integrator::initial(&(start.q.inverse() * start.w), columns),
+            (self.traj.dynamics[i].integrate && !rest && slide.is_none()).then(|| {
+                Cursor::new(
+                    start.q,
+                    integrator::initial(&(start.q.inverse() * start.w), columns),
+                )
             });
     }
 
