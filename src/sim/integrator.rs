@@ -342,21 +342,26 @@ pub fn step_dopri(
     evals: &mut u64,
 ) -> (Step, f64) {
     let (z1, k) = rk_step(&DOPRI5, d, &z0, Some(f0), h, evals);
+    // The error estimate `Σ_j e_j k_j` (times h below), one stage at a time.
+    let n = z0.len();
+    let mut err = [0.0; Z_LEN];
+    let err = &mut err[..n];
+    for (ej, kj) in DOPRI5.e.iter().zip(k.chunks_exact(n)) {
+        if *ej != 0.0 {
+            for (ev, kv) in err.iter_mut().zip(kj) {
+                *ev += ej * kv;
+            }
+        }
+    }
     let scaled_rms = |range: std::ops::Range<usize>, tol: f64| {
-        let n = range.len();
+        let len = range.len();
         let mut sum = 0.0;
         for i in range {
-            let err: f64 = DOPRI5
-                .e
-                .iter()
-                .zip(k.chunks_exact(z0.len()))
-                .map(|(e, ki)| e * ki[i])
-                .sum::<f64>()
-                * h;
+            let e = err[i] * h;
             let sc = tol + tol * z0[i].abs().max(z1[i].abs());
-            sum += (err / sc) * (err / sc);
+            sum += (e / sc) * (e / sc);
         }
-        (sum / n as f64).sqrt()
+        (sum / len as f64).sqrt()
     };
     let mut norm = scaled_rms(0..Z_STATE, tol);
     if z0.len() > Z_STATE {
