@@ -7,7 +7,7 @@
 
 use super::jet::{self, Sj, Vj};
 use super::state::BodyState;
-use crate::geometry::{ContactGeometry, FeaturePair, PoseT, SideFeature};
+use crate::geometry::{FeaturePair, PoseT, SideFeature};
 use crate::math::{Mat3, Vec3};
 use nalgebra::{
     Const, DMatrix, Isometry3, Matrix3, RealField, SMatrix, SVector, U1, Vector3, convert,
@@ -65,6 +65,18 @@ struct JetGeometry<const N: usize> {
     point_a: Vj<N>,
     point_b: Vj<N>,
     spin_radius: Sj<N>,
+}
+
+/// The parts of an impulse model every friction mode shares, as jets (see
+/// [`ImpulseCtx::jet_contact`]).
+struct JetContact<const N: usize> {
+    geometry: JetGeometry<N>,
+    n: Vj<N>,
+    a: JetParty<N>,
+    b: Option<JetParty<N>>,
+    v_rel: Vj<N>,
+    vn: Sj<N>,
+    sep: Sj<N>,
 }
 
 /// How friction acts at an impact (only with the `friction` effect).
@@ -175,67 +187,9 @@ fn moving<T: RealField>(p: &PartyCtx, z: &[T], at: usize, pm: usize) -> Moving<T
     }
 }
 
-/// A dual-number `Matrix3` with value `m` and derivative `dm` along input
-/// `i` for each `(i, dm)` (inputs at or past `N` are not carried).
-fn dual_matrix<const N: usize>(m: &Mat3, d: &[(usize, Mat3)]) -> Matrix3<DualSVec64<N>> {
-    Matrix3::from_fn(|r, c| {
-        let mut eps = SVector::<f64, N>::zeros();
-        for (i, dm) in d {
-            if *i < N {
-                eps[*i] = dm[(r, c)];
-            }
-        }
-        DualSVec64::new(m[(r, c)], Derivative::some(eps))
-    })
-}
-
-/// [`moving`] in dual numbers over the first `N` model inputs `z`, with
-/// the rotation and the inverse inertia built from their closed-form
-/// derivatives (as [`JetParty::new`] uses them) instead of by dual-number
-/// matrix products: `dR = [δθ]× R₀`, `dI⁻¹ = [δθ]× I⁻¹ − I⁻¹ [δθ]×` and
-/// `∂I⁻¹/∂I_k = −a_k a_kᵀ / I_k²` (world principal axis `a_k`). The same
-/// values and first derivatives, at a tenth of the cost.
-fn moving_dual<const N: usize>(
-    p: &PartyCtx,
-    z: &[DualSVec64<N>],
-    at: usize,
-    pm: usize,
-) -> Moving<DualSVec64<N>> {
-    let r0 = *p.state.q.to_rotation_matrix().matrix();
-    let axes = r0 * p.axes;
-    let d_inv = p.principal.map(|i| 1.0 / i);
-    let inv_inertia = axes * Mat3::from_diagonal(&d_inv) * axes.transpose();
-    let mut dr = Vec::with_capacity(3);
-    let mut di = Vec::with_capacity(6);
-    for k in 0..3 {
-        let e = jet::skew(&Vec3::ith(k, 1.0));
-        dr.push((at + 3 + k, e * r0));
-        di.push((at + 3 + k, e * inv_inertia - inv_inertia * e));
-        let a = axes.column(k);
-        di.push((pm + 1 + k, -(a * a.transpose()) * (d_inv[k] * d_inv[k])));
-    }
-    Moving {
-        pose: PoseT {
-            x: cv::<DualSVec64<N>>(&p.state.x) + v3(z, at),
-            r: dual_matrix(&r0, &dr),
-        },
-        v: cv::<DualSVec64<N>>(&p.state.v) + v3(z, at + 6),
-        w: cv::<DualSVec64<N>>(&p.state.w) + v3(z, at + 9),
-        inv_mass: DualSVec64::from_re(1.0) / z[pm],
-        inv_inertia: dual_matrix(&inv_inertia, &di),
-    }
-}
-
-/// What [`ImpulseCtx::model_with`] can be given rather than evaluate: the
-/// contact geometry and the parties, as the same functions of the inputs.
-struct Given<T: RealField> {
-    geometry: ContactGeometry<T>,
-    a: Moving<T>,
-    b: Option<Moving<T>>,
-}
-
-/// One moving party of a frictionless impulse, as jets: its velocities,
-/// inverse mass, lever `r × n` and `I⁻¹ (r × n)` in world axes.
+/// One moving party of an impulse, as jets: its velocities, inverse mass,
+/// lever `r` and `r × n`, `I⁻¹ (r × n)` in world axes, and what applying
+/// its inverse inertia to any other jet takes.
 struct JetParty<const N: usize> {
     v: Vj<N>,
     w: Vj<N>,
@@ -243,6 +197,13 @@ struct JetParty<const N: usize> {
     inv_mass: Sj<N>,
     c: Vj<N>,
     inv_inertia_c: Vj<N>,
+    /// World principal axes `R A`, inverse principal moments, `I⁻¹`.
+    axes: Mat3,
+    d_inv: Vec3,
+    inv_inertia: Mat3,
+    /// First tangent input (`δx`, `δθ`, `δv`, `δω`) and mass input.
+    at: usize,
+    pm: usize,
 }
 
 impl<const N: usize> JetParty<N> {
@@ -251,36 +212,169 @@ impl<const N: usize> JetParty<N> {
     fn new(p: &PartyCtx, at: usize, pm: usize, point: &Vj<N>, n: &Vj<N>) -> Self {
         let r = point.sub(&Vj::input(p.state.x, at));
         let c = r.cross(n);
-        // I⁻¹ y with I⁻¹ = R A D⁻¹ Aᵀ Rᵀ, R = (1 + [δθ]×) R₀, D = diag(I₁, I₂, I₃):
-        // d(I⁻¹y) = I⁻¹ dy + (I⁻¹[y]× − [I⁻¹y]×) dθ − Σ A_k (A_kᵀ y) dI_k / I_k².
         let axes = p.state.q.to_rotation_matrix().matrix() * p.axes;
         let d_inv = p.principal.map(|i| 1.0 / i);
-        let aty = axes.transpose() * c.v;
-        let inv_inertia = axes * Mat3::from_diagonal(&d_inv) * axes.transpose();
-        let y = axes * d_inv.component_mul(&aty);
-        let mut dy = inv_inertia * c.d;
-        let dtheta = inv_inertia * jet::skew(&c.v) - jet::skew(&y);
-        for k in 0..3 {
-            let mut col = dy.column_mut(at + 3 + k);
-            col += dtheta.column(k);
-            if pm + 1 + k < N {
-                let mut col = dy.column_mut(pm + 1 + k);
-                col -= axes.column(k) * (aty[k] * d_inv[k] * d_inv[k]);
-            }
-        }
-        JetParty {
+        let mut party = JetParty {
             v: Vj::input(p.state.v, at + 6),
             w: Vj::input(p.state.w, at + 9),
             r,
             inv_mass: Sj::input(p.mass, pm).recip(),
             c,
-            inv_inertia_c: Vj { v: y, d: dy },
+            inv_inertia_c: c,
+            axes,
+            d_inv,
+            inv_inertia: axes * Mat3::from_diagonal(&d_inv) * axes.transpose(),
+            at,
+            pm,
+        };
+        party.inv_inertia_c = party.inv_inertia_mul(&c);
+        party
+    }
+
+    /// `I⁻¹ y` with `I⁻¹ = R A D⁻¹ Aᵀ Rᵀ`, `R = (1 + [δθ]×) R₀`,
+    /// `D = diag(I₁, I₂, I₃)`: `d(I⁻¹y) = I⁻¹ dy + (I⁻¹[y]× − [I⁻¹y]×) dθ
+    /// − Σ A_k (A_kᵀ y) dI_k / I_k²`.
+    fn inv_inertia_mul(&self, y: &Vj<N>) -> Vj<N> {
+        let aty = self.axes.transpose() * y.v;
+        let v = self.axes * self.d_inv.component_mul(&aty);
+        let mut d = self.inv_inertia * y.d;
+        let dtheta = self.inv_inertia * jet::skew(&y.v) - jet::skew(&v);
+        for k in 0..3 {
+            if self.at + 3 + k < N {
+                let mut col = d.column_mut(self.at + 3 + k);
+                col += dtheta.column(k);
+            }
+            if self.pm + 1 + k < N {
+                let mut col = d.column_mut(self.pm + 1 + k);
+                col -= self.axes.column(k) * (aty[k] * self.d_inv[k] * self.d_inv[k]);
+            }
         }
+        Vj { v, d }
     }
 
     /// Velocity of the material point at the contact: `v + ω × r`.
     fn contact_velocity(&self) -> Vj<N> {
         self.v.add(&self.w.cross(&self.r))
+    }
+
+    /// The values alone, as constant jets of width `M`.
+    fn as_constant<const M: usize>(&self) -> JetParty<M> {
+        JetParty {
+            v: self.v.as_constant(),
+            w: self.w.as_constant(),
+            r: self.r.as_constant(),
+            inv_mass: self.inv_mass.as_constant(),
+            c: self.c.as_constant(),
+            inv_inertia_c: self.inv_inertia_c.as_constant(),
+            axes: self.axes,
+            d_inv: self.d_inv,
+            inv_inertia: self.inv_inertia,
+            at: self.at,
+            pm: self.pm,
+        }
+    }
+}
+
+/// How an impulse `P` on a (`−P` on b) and a couple `τ n` about the
+/// normal change the contact: the relative velocity of the contact points
+/// by `Δu = Σ P/m + (I⁻¹(r × P + τ n)) × r` (the `K P + k τ` of
+/// [`ImpulseCtx::model`]), the relative spin about `n` by
+/// `Δs = Σ n · I⁻¹(r × P + τ n)`; also each party's `I⁻¹(r × P + τ n)`.
+struct Response<const N: usize> {
+    du: Vj<N>,
+    ds: Sj<N>,
+    turn_a: Vj<N>,
+    turn_b: Option<Vj<N>>,
+}
+
+fn response<const N: usize>(
+    a: &JetParty<N>,
+    b: Option<&JetParty<N>>,
+    n: &Vj<N>,
+    p: &Vj<N>,
+    tau: &Sj<N>,
+) -> Response<N> {
+    let couple = n.scale(tau);
+    let turn_a = a.inv_inertia_mul(&a.r.cross(p).add(&couple));
+    let mut du = p.scale(&a.inv_mass).add(&turn_a.cross(&a.r));
+    let mut ds = n.dot(&turn_a);
+    let turn_b = b.map(|b| {
+        let turn = b.inv_inertia_mul(&b.r.cross(p).add(&couple));
+        du = du.add(&p.scale(&b.inv_mass)).add(&turn.cross(&b.r));
+        ds = ds.add(&n.dot(&turn));
+        turn
+    });
+    Response {
+        du,
+        ds,
+        turn_a,
+        turn_b,
+    }
+}
+
+/// How the relative spin of a frictional impulse is held.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Spin {
+    /// No contact patch: no couple.
+    Free,
+    /// The couple stops the spin (one more unknown and equation).
+    Stick,
+    /// The couple is at its limit, `τ = g P_n`.
+    Slide,
+}
+
+/// The linear system of a frictional impulse in its friction mode, as
+/// [`ImpulseCtx::model`] solves it: unknowns `x` (the impulse `P`, or
+/// `P_n` along the sliding direction `d`; then `τ` when the spin sticks)
+/// and equations (`Δu = target`, or `n · Δu = sep − v_n` when sliding;
+/// then `Δs = −spin` when the spin sticks).
+struct FrictionSystem<const N: usize> {
+    n: Vj<N>,
+    slide: Option<Vj<N>>,
+    spin: Spin,
+    /// The spin couple's limit per unit normal impulse.
+    g: Sj<N>,
+}
+
+impl<const N: usize> FrictionSystem<N> {
+    fn unknowns(&self) -> usize {
+        let p = if self.slide.is_some() { 1 } else { 3 };
+        p + usize::from(self.spin == Spin::Stick)
+    }
+
+    /// The impulse and couple for unknowns `x`.
+    fn impulse(&self, x: &[Sj<N>]) -> (Vj<N>, Sj<N>) {
+        let p = match &self.slide {
+            Some(d) => d.scale(&x[0]),
+            None => Vj::from_components([x[0], x[1], x[2]]),
+        };
+        let tau = match self.spin {
+            Spin::Free => Sj::constant(0.0),
+            Spin::Stick => x[x.len() - 1],
+            Spin::Slide => self.g.mul(&self.n.dot(&p)),
+        };
+        (p, tau)
+    }
+
+    /// The left-hand sides of the equations for a response.
+    fn equations(&self, r: &Response<N>) -> Vec<Sj<N>> {
+        let mut e = match self.slide {
+            Some(_) => vec![self.n.dot(&r.du)],
+            None => (0..3).map(|i| r.du.component(i)).collect(),
+        };
+        if self.spin == Spin::Stick {
+            e.push(r.ds);
+        }
+        e
+    }
+
+    fn as_constant<const M: usize>(&self) -> FrictionSystem<M> {
+        FrictionSystem {
+            n: self.n.as_constant(),
+            slide: self.slide.as_ref().map(|d| d.as_constant()),
+            spin: self.spin,
+            g: self.g.as_constant(),
+        }
     }
 }
 
@@ -323,35 +417,17 @@ impl ImpulseCtx {
     /// whose impulse lies in its friction cone and whose couple within its
     /// limit.
     fn model<T: RealField>(&self, z: &[T], mode: Option<FrictionMode>) -> (Vec<T>, FrictionMode) {
-        self.model_with(z, mode, None)
-    }
-
-    /// [`ImpulseCtx::model`], with the contact geometry and the parties at
-    /// `z` given (they are the same functions of the inputs; see
-    /// [`ImpulseCtx::jacobian_friction`]) or evaluated here.
-    fn model_with<T: RealField>(
-        &self,
-        z: &[T],
-        mode: Option<FrictionMode>,
-        given: Option<Given<T>>,
-    ) -> (Vec<T>, FrictionMode) {
         let p0 = self.param_offset();
-        let (a, b, geo) = match given {
-            Some(g) => (g.a, g.b, g.geometry),
-            None => {
-                let a = moving(&self.a, z, 0, p0 + 3);
-                let b = self.b.as_ref().map(|b| moving(b, z, 12, p0 + 7));
-                let pose_b = match &b {
-                    Some(m) => m.pose.clone(),
-                    None => PoseT {
-                        x: cv::<T>(&self.b_pose.translation.vector),
-                        r: cm::<T>(self.b_pose.rotation.to_rotation_matrix().matrix()),
-                    },
-                };
-                let geo = self.feature.evaluate(&a.pose, &pose_b);
-                (a, b, geo)
-            }
+        let a = moving(&self.a, z, 0, p0 + 3);
+        let b = self.b.as_ref().map(|b| moving(b, z, 12, p0 + 7));
+        let pose_b = match &b {
+            Some(m) => m.pose.clone(),
+            None => PoseT {
+                x: cv::<T>(&self.b_pose.translation.vector),
+                r: cm::<T>(self.b_pose.rotation.to_rotation_matrix().matrix()),
+            },
         };
+        let geo = self.feature.evaluate(&a.pose, &pose_b);
         let mut n = geo.normal.clone();
         if self.normal_dev.is_some() {
             let t1 = n.cross(&cv::<T>(&self.tangent_axis));
@@ -795,14 +871,13 @@ impl ImpulseCtx {
         }
     }
 
-    /// Jacobian of the impulse map with friction (any mode): the contact
-    /// geometry as a jet along the few configuration directions it depends
-    /// on ([`ImpulseCtx::geometry_jet`]), the rest of the generic model in
-    /// dual numbers over the states and, with `params`, the parameters
-    /// (else over the states only: 12 or 24 columns, as
-    /// [`ImpulseCtx::jacobian_with`]). Equal to [`ImpulseCtx::jacobian_dual`]
-    /// (tested), at a fraction of its cost: a patch's corners are not
-    /// carried through 19- or 35-wide dual numbers.
+    /// Jacobian of the impulse map with friction (any mode), by jets over
+    /// the states and, with `params`, the parameters (else over the states
+    /// only: 12 or 24 columns, as [`ImpulseCtx::jacobian_with`]); the
+    /// contact geometry along the few configuration directions it depends
+    /// on ([`ImpulseCtx::geometry_jet`]), the mode's linear system by
+    /// implicit differentiation ([`ImpulseCtx::friction_jet`]). Equal to
+    /// [`ImpulseCtx::jacobian_dual`] (tested), at a fraction of its cost.
     pub fn jacobian_friction(&self, params: bool) -> DMatrix<f64> {
         match (self.b.is_some(), params) {
             (false, false) => self.friction_n::<12>(),
@@ -813,61 +888,17 @@ impl ImpulseCtx {
     }
 
     fn friction_n<const N: usize>(&self) -> DMatrix<f64> {
-        let geo = self.geometry_jet_any::<N>();
-        let dual = |s: &Sj<N>| DualSVec64::<N>::new(s.v, Derivative::some(s.d.transpose()));
-        let vector = |v: &Vj<N>| {
-            Vector3::from_fn(|r, _| {
-                DualSVec64::<N>::new(v.v[r], Derivative::some(v.d.row(r).transpose()))
-            })
-        };
-        let geometry = ContactGeometry {
-            distance: dual(&geo.distance),
-            normal: vector(&geo.normal),
-            point_a: vector(&geo.point_a),
-            point_b: vector(&geo.point_b),
-            spin_radius: dual(&geo.spin_radius),
-        };
-        let z: Vec<DualSVec64<N>> = self
-            .input()
-            .into_iter()
-            .enumerate()
-            .map(|(i, x)| {
-                if i < N {
-                    DualSVec64::new(x, Derivative::derivative_generic(Const::<N>, U1, i))
-                } else {
-                    DualSVec64::from_re(x)
-                }
-            })
-            .collect();
-        let p0 = self.param_offset();
-        let given = Given {
-            geometry,
-            a: moving_dual(&self.a, &z, 0, p0 + 3),
-            b: self.b.as_ref().map(|b| moving_dual(b, &z, 12, p0 + 7)),
-        };
-        let (out, _) = self.model_with(&z, Some(self.mode), Some(given));
-        let mut j = DMatrix::zeros(OUTPUTS, N);
-        for (r, o) in out.iter().enumerate() {
-            let eps = o.eps.unwrap_generic(Const::<N>, U1);
-            for c in 0..N {
-                j[(r, c)] = eps[c];
-            }
-        }
-        j
+        let j = self.friction_jet::<N>();
+        DMatrix::from_column_slice(OUTPUTS, N, j.as_slice())
     }
 
-    /// The impulse map's Jacobian (`N` inputs), the geometry carried along
-    /// exactly the directions of [`ImpulseCtx::geometry_directions`].
-    fn jet<const N: usize>(&self) -> SMatrix<f64, OUTPUTS, N> {
+    /// What every impulse model shares, as jets over the `N` inputs: the
+    /// contact geometry, the (deviated) normal, the parties, the relative
+    /// contact velocity, its normal part and the separation speed.
+    fn jet_contact<const N: usize>(&self) -> JetContact<N> {
         let p0 = self.param_offset();
-        let JetGeometry {
-            distance,
-            normal,
-            point_a,
-            point_b,
-            ..
-        } = self.geometry_jet_any::<N>();
-        let mut n = normal;
+        let geometry = self.geometry_jet_any::<N>();
+        let mut n = geometry.normal;
         if let Some(dev) = self.normal_dev {
             let t1 = n.cross_const(&self.tangent_axis).normalize();
             let t2 = n.cross(&t1);
@@ -876,16 +907,14 @@ impl ImpulseCtx {
                 .add(&t2.scale(&Sj::input(dev[1], p0 + 1)))
                 .normalize();
         }
-        let a = JetParty::<N>::new(&self.a, 0, p0 + 3, &point_a, &n);
+        let a = JetParty::<N>::new(&self.a, 0, p0 + 3, &geometry.point_a, &n);
         let b = self
             .b
             .as_ref()
-            .map(|b| JetParty::<N>::new(b, 12, p0 + 7, &point_b, &n));
+            .map(|b| JetParty::<N>::new(b, 12, p0 + 7, &geometry.point_b, &n));
         let mut v_rel = a.contact_velocity();
-        let mut nkn = a.inv_mass.add(&a.c.dot(&a.inv_inertia_c));
         if let Some(b) = &b {
             v_rel = v_rel.sub(&b.contact_velocity());
-            nkn = nkn.add(&b.inv_mass).add(&b.c.dot(&b.inv_inertia_c));
         }
         let vn = n.dot(&v_rel);
         let sep = match self.min_separation {
@@ -893,23 +922,163 @@ impl ImpulseCtx {
             Some(v) => Sj::constant(v),
             None => Sj::input(self.restitution, p0 + 2).mul(&vn).neg(),
         };
-        // Frictionless: p = j n with j = (sep − v_n) / (n·K n), and
-        // `n·K n = 1/m_a + (r_a × n)·I_a⁻¹(r_a × n) (+ b's terms)`.
-        let j = sep.sub(&vn).div(&nkn);
-        let p = n.scale(&j);
+        JetContact {
+            geometry,
+            n,
+            a,
+            b,
+            v_rel,
+            vn,
+            sep,
+        }
+    }
+
+    /// The outputs' derivatives for impulse `p` and, with `turn_a` /
+    /// `turn_b`, the parties' changes of angular velocity.
+    fn jet_outputs<const N: usize>(
+        contact: &JetContact<N>,
+        p: &Vj<N>,
+        turn_a: &Vj<N>,
+        turn_b: Option<&Vj<N>>,
+    ) -> SMatrix<f64, OUTPUTS, N> {
+        let (a, b) = (&contact.a, &contact.b);
         let mut out = SMatrix::<f64, OUTPUTS, N>::zeros();
-        out.row_mut(0).copy_from(&distance.d);
+        out.row_mut(0).copy_from(&contact.geometry.distance.d);
         out.fixed_rows_mut::<3>(1)
             .copy_from(&a.v.add(&p.scale(&a.inv_mass)).d);
-        out.fixed_rows_mut::<3>(4)
-            .copy_from(&a.w.add(&a.inv_inertia_c.scale(&j)).d);
-        if let Some(b) = &b {
+        out.fixed_rows_mut::<3>(4).copy_from(&a.w.add(turn_a).d);
+        if let (Some(b), Some(turn_b)) = (b, turn_b) {
             out.fixed_rows_mut::<3>(7)
                 .copy_from(&b.v.sub(&p.scale(&b.inv_mass)).d);
-            out.fixed_rows_mut::<3>(10)
-                .copy_from(&b.w.sub(&b.inv_inertia_c.scale(&j)).d);
+            out.fixed_rows_mut::<3>(10).copy_from(&b.w.sub(turn_b).d);
         }
         out
+    }
+
+    /// The impulse map's Jacobian with friction, in the friction mode
+    /// [`ImpulseCtx::apply`] chose, by implicit differentiation: the
+    /// mode's linear system `A(u) x = c(u)` (see [`FrictionSystem`]) is
+    /// solved in plain numbers, and `dx = A⁻¹ (dc − (dA) x)`, where `(dA) x`
+    /// is the derivative of the system's left-hand side at constant `x`.
+    /// No matrix of jets is formed or inverted.
+    fn friction_jet<const N: usize>(&self) -> SMatrix<f64, OUTPUTS, N> {
+        let contact = self.jet_contact::<N>();
+        let JetContact {
+            n,
+            a,
+            b,
+            v_rel,
+            vn,
+            sep,
+            ..
+        } = &contact;
+        let mu = self.friction;
+        let target = n.scale(sep).sub(v_rel);
+        let vt = v_rel.sub(&n.scale(vn));
+        // Sliding impulses push against the tangential velocity before
+        // the impact: `P = P_n (n − μ t̂)`.
+        let slide_dir =
+            (vt.v.norm() != 0.0).then(|| n.sub(&vt.normalize().scale(&Sj::constant(mu))));
+        let rho = &contact.geometry.spin_radius;
+        let mut spin_rel = n.dot(&a.w);
+        if let Some(b) = b {
+            spin_rel = spin_rel.sub(&n.dot(&b.w));
+        }
+        let mode = self.mode;
+        let (slide, spin) = if rho.v > 0.0 {
+            let spin = if mode.spin_stick {
+                Spin::Stick
+            } else {
+                Spin::Slide
+            };
+            (slide_dir.filter(|_| !mode.stick), spin)
+        } else {
+            (slide_dir.filter(|_| !mode.stick), Spin::Free)
+        };
+        let sigma = if spin_rel.v > 0.0 {
+            1.0
+        } else if spin_rel.v < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        let g = rho.mul(&Sj::constant(-sigma * mu));
+        let mut rhs = match &slide {
+            Some(_) => vec![sep.sub(vn)],
+            None => (0..3).map(|i| target.component(i)).collect(),
+        };
+        if spin == Spin::Stick {
+            rhs.push(spin_rel.neg());
+        }
+        let system = FrictionSystem {
+            n: *n,
+            slide,
+            spin,
+            g,
+        };
+        // `A`, column by column, from the system in plain numbers (jets of
+        // width 0); unused rows and columns of the 4×4 are the identity.
+        let k = system.unknowns();
+        let plain = system.as_constant::<0>();
+        let (a0, b0) = (
+            a.as_constant::<0>(),
+            b.as_ref().map(|b| b.as_constant::<0>()),
+        );
+        let mut am = nalgebra::Matrix4::<f64>::identity();
+        for col in 0..k {
+            let x: Vec<Sj<0>> = (0..k)
+                .map(|i| Sj::constant(if i == col { 1.0 } else { 0.0 }))
+                .collect();
+            let (p, tau) = plain.impulse(&x);
+            let e = plain.equations(&response(&a0, b0.as_ref(), &plain.n, &p, &tau));
+            for (row, ei) in e.iter().enumerate() {
+                am[(row, col)] = ei.v;
+            }
+        }
+        // As the model: a singular system gives no impulse.
+        let a_inv = am.try_inverse().unwrap_or_else(nalgebra::Matrix4::zeros);
+        let mut c = nalgebra::Vector4::zeros();
+        let mut dc = SMatrix::<f64, 4, N>::zeros();
+        for (row, ri) in rhs.iter().enumerate() {
+            c[row] = ri.v;
+            dc.set_row(row, &ri.d);
+        }
+        let x0 = a_inv * c;
+        let xc: Vec<Sj<N>> = (0..k).map(|i| Sj::constant(x0[i])).collect();
+        let (p, tau) = system.impulse(&xc);
+        let lhs = system.equations(&response(a, b.as_ref(), n, &p, &tau));
+        for (row, li) in lhs.iter().enumerate() {
+            let mut r = dc.row_mut(row);
+            r -= li.d;
+        }
+        let dx = a_inv * dc;
+        let x: Vec<Sj<N>> = (0..k)
+            .map(|i| Sj {
+                v: x0[i],
+                d: dx.row(i).into_owned(),
+            })
+            .collect();
+        let (p, tau) = system.impulse(&x);
+        let r = response(a, b.as_ref(), n, &p, &tau);
+        Self::jet_outputs(&contact, &p, &r.turn_a, r.turn_b.as_ref())
+    }
+
+    fn jet<const N: usize>(&self) -> SMatrix<f64, OUTPUTS, N> {
+        let contact = self.jet_contact::<N>();
+        let JetContact {
+            n, a, b, vn, sep, ..
+        } = &contact;
+        let mut nkn = a.inv_mass.add(&a.c.dot(&a.inv_inertia_c));
+        if let Some(b) = b {
+            nkn = nkn.add(&b.inv_mass).add(&b.c.dot(&b.inv_inertia_c));
+        }
+        // Frictionless: p = j n with j = (sep − v_n) / (n·K n), and
+        // `n·K n = 1/m_a + (r_a × n)·I_a⁻¹(r_a × n) (+ b's terms)`.
+        let j = sep.sub(vn).div(&nkn);
+        let p = n.scale(&j);
+        let turn_a = a.inv_inertia_c.scale(&j);
+        let turn_b = b.as_ref().map(|b| b.inv_inertia_c.scale(&j));
+        Self::jet_outputs(&contact, &p, &turn_a, turn_b.as_ref())
     }
 
     /// Jacobian of the generic model by forward-mode dual numbers (any
@@ -993,7 +1162,7 @@ mod tests {
     /// tilted floor (with and without normal controls, and as a
     /// micro-collision on both sides of its floor), a ball on a body's
     /// face, two crossed edges, and two balls.
-    fn contexts() -> Vec<(&'static str, ImpulseCtx)> {
+    pub(super) fn contexts() -> Vec<(&'static str, ImpulseCtx)> {
         let a = party(
             [0.1, 0.2, 0.35],
             [0.3, -0.2, 0.5],
@@ -1350,6 +1519,46 @@ mod patch_friction {
             assert!((&j - &dual).norm() < 1e-12 * dual.norm(), "{:?}", ctx.mode);
             super::tests::assert_matches_central_differences(&ctx, &format!("{:?}", ctx.mode));
         }
+    }
+
+    /// Implicit differentiation of each friction mode's linear system
+    /// gives the dual-number derivative of the model, in every mode: the
+    /// one `apply` decides and the others, forced (a mode's system is
+    /// well-posed away from its cone too). Patch landings (six systems) and
+    /// the one-point contexts of the frictionless tests, with all inputs
+    /// and with the states only.
+    #[test]
+    fn every_friction_modes_jacobian_equals_the_dual_number_jacobian() {
+        let mut cases: Vec<(String, ImpulseCtx)> = super::tests::contexts()
+            .into_iter()
+            .filter(|(_, c)| c.min_separation.is_none())
+            .map(|(name, mut c)| {
+                c.friction = 0.4;
+                (name.to_string(), c)
+            })
+            .collect();
+        cases.push(("patch landing".into(), landing(0.3, 1.5, 20.0)));
+        let mut modes_seen = 0;
+        for (name, mut ctx) in cases {
+            ctx.apply();
+            for (stick, spin_stick) in [(true, true), (true, false), (false, true), (false, false)]
+            {
+                ctx.mode = FrictionMode { stick, spin_stick };
+                let dual = ctx.jacobian_dual();
+                let scale = dual.norm();
+                let err = (ctx.jacobian_friction(true) - &dual).norm();
+                assert!(err < 1e-12 * scale, "{name}, {:?}: {err:.2e}", ctx.mode);
+                let n = if ctx.b.is_some() { 24 } else { 12 };
+                let err = (ctx.jacobian_friction(false) - dual.columns(0, n)).norm();
+                assert!(
+                    err < 1e-12 * scale,
+                    "{name}, {:?}, states: {err:.2e}",
+                    ctx.mode
+                );
+                modes_seen += 1;
+            }
+        }
+        assert!(modes_seen >= 4 * 6);
     }
 
     /// Without the friction effect a patch resists no spin, and with

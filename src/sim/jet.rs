@@ -87,6 +87,12 @@ impl<const N: usize> Sj<N> {
         }
     }
 
+    /// The value alone, as a constant jet of width `M` (`M = 0`: plain
+    /// arithmetic through the same code).
+    pub fn as_constant<const M: usize>(&self) -> Sj<M> {
+        Sj::constant(self.v)
+    }
+
     /// `1 / self`.
     pub fn recip(&self) -> Self {
         let r = 1.0 / self.v;
@@ -113,6 +119,31 @@ impl<const N: usize> Vj<N> {
             x.d[(k, i + k)] = 1.0;
         }
         x
+    }
+
+    /// A vector of three scalar jets.
+    pub fn from_components(c: [Sj<N>; 3]) -> Self {
+        let mut d = SMatrix::<f64, 3, N>::zeros();
+        for (r, s) in c.iter().enumerate() {
+            d.set_row(r, &s.d);
+        }
+        Vj {
+            v: Vec3::new(c[0].v, c[1].v, c[2].v),
+            d,
+        }
+    }
+
+    /// Component `i`.
+    pub fn component(&self, i: usize) -> Sj<N> {
+        Sj {
+            v: self.v[i],
+            d: self.d.row(i).into_owned(),
+        }
+    }
+
+    /// The value alone, as a constant jet of width `M`.
+    pub fn as_constant<const M: usize>(&self) -> Vj<M> {
+        Vj::constant(self.v)
     }
 
     pub fn add(&self, o: &Self) -> Self {
@@ -192,6 +223,7 @@ mod tests {
                 .recip()
                 .sub(&s)
                 .neg();
+            let c = Vj::from_components([c.component(2), k, c.component(0)]);
             (k, c.sub(&a).sub(&b).scale(&k).scale(&a.dot(&b)))
         };
         let z0 = [0.4, -0.8, 1.1, 1.7];
