@@ -188,15 +188,13 @@ fn moving<T: RealField>(p: &PartyCtx, z: &[T], at: usize, pm: usize) -> Moving<T
 }
 
 /// One moving party of an impulse, as jets: its velocities, inverse mass,
-/// lever `r` and `r × n`, `I⁻¹ (r × n)` in world axes, and what applying
-/// its inverse inertia to any other jet takes.
+/// lever `r` in world axes, and what applying its inverse inertia to a jet
+/// takes.
 struct JetParty<const N: usize> {
     v: Vj<N>,
     w: Vj<N>,
     r: Vj<N>,
     inv_mass: Sj<N>,
-    c: Vj<N>,
-    inv_inertia_c: Vj<N>,
     /// World principal axes `R A`, inverse principal moments, `I⁻¹`.
     axes: Mat3,
     d_inv: Vec3,
@@ -209,26 +207,20 @@ struct JetParty<const N: usize> {
 impl<const N: usize> JetParty<N> {
     /// `at`: the party's first tangent input (`δx`, `δθ`, `δv`, `δω`);
     /// `pm`: its mass input, followed by its three principal moments.
-    fn new(p: &PartyCtx, at: usize, pm: usize, point: &Vj<N>, n: &Vj<N>) -> Self {
-        let r = point.sub(&Vj::input(p.state.x, at));
-        let c = r.cross(n);
+    fn new(p: &PartyCtx, at: usize, pm: usize, point: &Vj<N>) -> Self {
         let axes = p.state.q.to_rotation_matrix().matrix() * p.axes;
         let d_inv = p.principal.map(|i| 1.0 / i);
-        let mut party = JetParty {
+        JetParty {
             v: Vj::input(p.state.v, at + 6),
             w: Vj::input(p.state.w, at + 9),
-            r,
+            r: point.sub(&Vj::input(p.state.x, at)),
             inv_mass: Sj::input(p.mass, pm).recip(),
-            c,
-            inv_inertia_c: c,
             axes,
             d_inv,
             inv_inertia: axes * Mat3::from_diagonal(&d_inv) * axes.transpose(),
             at,
             pm,
-        };
-        party.inv_inertia_c = party.inv_inertia_mul(&c);
-        party
+        }
     }
 
     /// `I⁻¹ y` with `I⁻¹ = R A D⁻¹ Aᵀ Rᵀ`, `R = (1 + [δθ]×) R₀`,
@@ -264,8 +256,6 @@ impl<const N: usize> JetParty<N> {
             w: self.w.as_constant(),
             r: self.r.as_constant(),
             inv_mass: self.inv_mass.as_constant(),
-            c: self.c.as_constant(),
-            inv_inertia_c: self.inv_inertia_c.as_constant(),
             axes: self.axes,
             d_inv: self.d_inv,
             inv_inertia: self.inv_inertia,
@@ -907,11 +897,11 @@ impl ImpulseCtx {
                 .add(&t2.scale(&Sj::input(dev[1], p0 + 1)))
                 .normalize();
         }
-        let a = JetParty::<N>::new(&self.a, 0, p0 + 3, &geometry.point_a, &n);
+        let a = JetParty::<N>::new(&self.a, 0, p0 + 3, &geometry.point_a);
         let b = self
             .b
             .as_ref()
-            .map(|b| JetParty::<N>::new(b, 12, p0 + 7, &geometry.point_b, &n));
+            .map(|b| JetParty::<N>::new(b, 12, p0 + 7, &geometry.point_b));
         let mut v_rel = a.contact_velocity();
         if let Some(b) = &b {
             v_rel = v_rel.sub(&b.contact_velocity());
@@ -1068,16 +1058,24 @@ impl ImpulseCtx {
         let JetContact {
             n, a, b, vn, sep, ..
         } = &contact;
-        let mut nkn = a.inv_mass.add(&a.c.dot(&a.inv_inertia_c));
-        if let Some(b) = b {
-            nkn = nkn.add(&b.inv_mass).add(&b.c.dot(&b.inv_inertia_c));
-        }
         // Frictionless: p = j n with j = (sep − v_n) / (n·K n), and
-        // `n·K n = 1/m_a + (r_a × n)·I_a⁻¹(r_a × n) (+ b's terms)`.
+        // `n·K n = 1/m_a + (r_a × n)·I_a⁻¹(r_a × n) (+ b's terms)`; each
+        // party turns by `I⁻¹(r × n) j`.
+        let lever = |party: &JetParty<N>| {
+            let c = party.r.cross(n);
+            let ic = party.inv_inertia_mul(&c);
+            (party.inv_mass.add(&c.dot(&ic)), ic)
+        };
+        let (mut nkn, ic_a) = lever(a);
+        let ic_b = b.as_ref().map(|b| {
+            let (k, ic) = lever(b);
+            nkn = nkn.add(&k);
+            ic
+        });
         let j = sep.sub(vn).div(&nkn);
         let p = n.scale(&j);
-        let turn_a = a.inv_inertia_c.scale(&j);
-        let turn_b = b.as_ref().map(|b| b.inv_inertia_c.scale(&j));
+        let turn_a = ic_a.scale(&j);
+        let turn_b = ic_b.map(|ic| ic.scale(&j));
         Self::jet_outputs(&contact, &p, &turn_a, turn_b.as_ref())
     }
 
