@@ -975,15 +975,14 @@ impl ImpulseCtx {
             spin_rel = spin_rel.sub(&n.dot(&b.w));
         }
         let mode = self.mode;
-        let (slide, spin) = if rho.v > 0.0 {
-            let spin = if mode.spin_stick {
-                Spin::Stick
-            } else {
-                Spin::Slide
-            };
-            (slide_dir.filter(|_| !mode.stick), spin)
+        // The impulse slides only in a sliding mode with a sliding direction.
+        let slide = slide_dir.filter(|_| !mode.stick);
+        let spin = if rho.v <= 0.0 {
+            Spin::Free
+        } else if mode.spin_stick {
+            Spin::Stick
         } else {
-            (slide_dir.filter(|_| !mode.stick), Spin::Free)
+            Spin::Slide
         };
         let sigma = if spin_rel.v > 0.0 {
             1.0

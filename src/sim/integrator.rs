@@ -190,7 +190,7 @@ const DOPRI_D: [f64; 7] = [
 /// One step of an explicit RK method from `z0` (whose `θ` part is zero).
 /// Returns the end value and the stage derivatives, stage-major in one
 /// buffer (stage `i` at `[i·n, (i+1)·n)`, `n = z0.len()`): a step then
-/// costs three allocations, not one per stage. `first`, when given, is
+/// costs two allocations (stages and end value), not one per stage. `first`, when given, is
 /// `f(z0)` (see [`first_stage`]) and is not evaluated again.
 fn rk_step(
     tab: &Tableau,
