@@ -39,6 +39,9 @@ pub struct Part {
     /// [`Part::local_radius`]), kept because the contact queries' culling
     /// asks for it for every part pair at every step.
     radius: f64,
+    /// The piece's bounding box in its own frame (see [`Part::local_box`]),
+    /// kept for the same reason.
+    bounds: Option<(Vec3, Vec3)>,
 }
 
 impl std::fmt::Debug for Part {
@@ -177,14 +180,38 @@ impl Part {
         self.radius
     }
 
+    /// The box bounding the piece, aligned with the piece's own axes: its
+    /// centre and half extents in the piece's frame (`None` for unbounded
+    /// pieces). A long thin piece's bounding sphere is mostly empty; its box
+    /// is not, so the box culls far more of a compound's part pairs.
+    pub fn local_box(&self) -> Option<(Vec3, Vec3)> {
+        self.bounds
+    }
+
     /// A piece of the given kind and shape at the owner's origin.
     pub(crate) fn new(kind: PartKind, shape: Option<SharedShape>) -> Part {
         let radius = Part::bounding_radius(&kind);
+        let bounds = Part::bounding_box(&kind);
         Part {
             kind,
             offset: Isometry3::identity(),
             shape,
             radius,
+            bounds,
+        }
+    }
+
+    fn bounding_box(kind: &PartKind) -> Option<(Vec3, Vec3)> {
+        match kind {
+            PartKind::Ball { radius } => Some((Vec3::zeros(), Vec3::repeat(*radius))),
+            PartKind::Convex { vertices, .. } => {
+                let first = vertices.first()?;
+                let (lo, hi) = vertices
+                    .iter()
+                    .fold((*first, *first), |(lo, hi), v| (lo.inf(v), hi.sup(v)));
+                Some(((lo + hi) / 2.0, (hi - lo) / 2.0))
+            }
+            PartKind::HalfSpace { .. } | PartKind::Parabola { .. } => None,
         }
     }
 
