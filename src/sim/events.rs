@@ -579,40 +579,55 @@ impl World<'_> {
         let terms_a = self.accel_terms(pair.a, s, t, &frame_g);
         let terms_b = moving_b.map(|(j, sb)| self.accel_terms(j, sb, t, &frame_g));
         // Heights of a part's points over a plane moving at `vf` (sign +1:
-        // above, the a side).
-        let heights = |g: &crate::geometry::Geometry,
-                       part: usize,
-                       st: &BodyState,
-                       terms: &(Vec3, f64, f64, f64),
-                       n: &Vec3,
-                       p0: &Vec3,
-                       vf: &Vec3,
-                       sign: f64|
-         -> Option<Vec<(f64, f64, f64)>> {
+        // above, the a side), into `out` (reused: this runs for every part
+        // contact of every search step).
+        #[allow(clippy::too_many_arguments)]
+        fn heights(
+            g: &crate::geometry::Geometry,
+            part: usize,
+            st: &BodyState,
+            terms: &(Vec3, f64, f64, f64),
+            n: &Vec3,
+            p0: &Vec3,
+            vf: &Vec3,
+            sign: f64,
+            out: &mut Vec<(f64, f64, f64)>,
+        ) -> Option<()> {
             let part = &g.parts[part];
-            let points: Vec<(Vec3, f64)> = match &part.kind {
+            let (exact, rem, w_max, alpha) = terms;
+            // A point `v` of the part (its own frame) is at `r = t + R v` from
+            // the owner's centre: the height `n·(x + r − p0)` and its rate
+            // `n·(v_x + ω × r − v_f)` (`n·(ω × r) = r·(n × ω)`) are affine in
+            // `v`, with coefficients computed once per part; `|r|` does not
+            // depend on the owner's orientation.
+            let rot = (st.q * part.offset.rotation).to_rotation_matrix();
+            let t = st.q * part.offset.translation.vector;
+            let nw = n.cross(&st.w);
+            let (dh, dhd) = (rot.inverse() * n, rot.inverse() * nw);
+            let h0 = n.dot(&(st.x + t - p0));
+            let hd0 = n.dot(&(st.v - vf)) + t.dot(&nw);
+            let acc0 = sign * n.dot(exact) - rem;
+            let spin = w_max * w_max + alpha;
+            let centre = part.offset.rotation.inverse() * part.offset.translation.vector;
+            let height = |v: &Vec3, radius: f64| {
+                let h = sign * (h0 + dh.dot(v)) - radius;
+                let hd = sign * (hd0 + dhd.dot(v));
+                let acc = acc0 - spin * (v + centre).norm();
+                (h, hd, acc)
+            };
+            out.clear();
+            match &part.kind {
                 crate::geometry::PartKind::Ball { radius } => {
-                    vec![(part.offset.translation.vector, *radius)]
+                    out.push(height(&Vec3::zeros(), *radius));
                 }
-                crate::geometry::PartKind::Convex { .. } => {
-                    part.vertices().into_iter().map(|v| (v, 0.0)).collect()
+                crate::geometry::PartKind::Convex { vertices, .. } => {
+                    out.extend(vertices.iter().map(|v| height(v, 0.0)));
                 }
                 _ => return None,
-            };
-            let (exact, rem, w_max, alpha) = terms;
-            Some(
-                points
-                    .into_iter()
-                    .map(|(local, radius)| {
-                        let r = st.q * local;
-                        let h = sign * n.dot(&(st.x + r - p0)) - radius;
-                        let hd = sign * n.dot(&(st.v + st.w.cross(&r) - vf));
-                        let acc = sign * n.dot(exact) - (rem + (w_max * w_max + alpha) * r.norm());
-                        (h, hd, acc)
-                    })
-                    .collect(),
-            )
-        };
+            }
+            Some(())
+        }
+        let (mut ha, mut hb) = (Vec::new(), Vec::new());
         let mut best = [f64::INFINITY; K];
         // Part contacts with an obstacle and their fixed-plane steps.
         let mut fixed: Vec<(&Contact, usize, [f64; K], bool)> = Vec::with_capacity(planes.len());
@@ -686,11 +701,11 @@ impl World<'_> {
             // The plane moves with b's witness point (and falls with gravity
             // for two bodies): two bodies moving together see slow heights.
             let vf = moving_b.map_or(Vec3::zeros(), |(_, sb)| sb.v + sb.w.cross(&(p0 - sb.x)));
-            let ha = heights(ga, c.part_a, s, &terms_a, &n, &p0, &vf, 1.0)?;
+            heights(ga, c.part_a, s, &terms_a, &n, &p0, &vf, 1.0, &mut ha)?;
             let mut step = [f64::INFINITY; K];
             match (moving_b, &terms_b) {
                 (Some((_, sb)), Some(tb)) => {
-                    let hb = heights(gb, c.part_b, sb, tb, &n, &p0, &vf, -1.0)?;
+                    heights(gb, c.part_b, sb, tb, &n, &p0, &vf, -1.0, &mut hb)?;
                     let min_a = ha.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
                     let min_b = hb.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
                     for (b, &level) in step.iter_mut().zip(&levels) {
