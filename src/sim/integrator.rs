@@ -415,14 +415,16 @@ impl Step {
 
     /// As [`Step::at`] for the state part only (`w`, `θ`): the state does not
     /// depend on the tangent, so this gives the same numbers at a fraction of
-    /// the cost (used by the event search).
+    /// the cost, without allocating (used by the event search).
     pub fn at_state(
         &self,
         d: &BodyDynamics,
         t: f64,
         evals: &mut u64,
-    ) -> (UnitQuaternion<f64>, Vec<f64>) {
-        self.at_len(d, t, evals, Z_STATE)
+    ) -> (UnitQuaternion<f64>, [f64; Z_STATE]) {
+        let mut z = [0.0; Z_STATE];
+        let q = self.at_into(d, t, evals, &mut z);
+        (q, z)
     }
 
     fn at_len(
@@ -432,38 +434,52 @@ impl Step {
         evals: &mut u64,
         n: usize,
     ) -> (UnitQuaternion<f64>, Vec<f64>) {
-        let n = n.min(self.z0.len());
+        let mut z = vec![0.0; n.min(self.z0.len())];
+        let q = self.at_into(d, t, evals, &mut z);
+        (q, z)
+    }
+
+    /// The first `out.len()` entries of the integrated vector at `t` into
+    /// `out`; returns the orientation.
+    fn at_into(
+        &self,
+        d: &BodyDynamics,
+        t: f64,
+        evals: &mut u64,
+        out: &mut [f64],
+    ) -> UnitQuaternion<f64> {
+        let n = out.len();
         let tau = t - self.t0;
         if tau <= 0.0 {
-            return (self.q0, self.z0[..n].to_vec());
+            out.copy_from_slice(&self.z0[..n]);
+            return self.q0;
         }
         if tau >= self.h {
-            return (advance(&self.q0, &self.z1), self.z1[..n].to_vec());
+            out.copy_from_slice(&self.z1[..n]);
+            return advance(&self.q0, &self.z1);
         }
-        let z = if self.adaptive {
+        if self.adaptive {
             let s = tau / self.h;
             let s1 = 1.0 - s;
             let stride = self.z0.len();
-            (0..n)
-                .map(|i| {
-                    let y0 = self.z0[i];
-                    let y1 = self.z1[i];
-                    let ydiff = y1 - y0;
-                    let bspl = self.h * self.k[i] - ydiff;
-                    let r4 = ydiff - self.h * self.k[6 * stride + i] - bspl;
-                    let r5: f64 = self.h
-                        * DOPRI_D
-                            .iter()
-                            .zip(self.k.chunks_exact(stride))
-                            .map(|(dd, kk)| dd * kk[i])
-                            .sum::<f64>();
-                    y0 + s * (ydiff + s1 * (bspl + s * (r4 + s1 * r5)))
-                })
-                .collect()
+            for (i, o) in out.iter_mut().enumerate() {
+                let y0 = self.z0[i];
+                let y1 = self.z1[i];
+                let ydiff = y1 - y0;
+                let bspl = self.h * self.k[i] - ydiff;
+                let r4 = ydiff - self.h * self.k[6 * stride + i] - bspl;
+                let r5: f64 = self.h
+                    * DOPRI_D
+                        .iter()
+                        .zip(self.k.chunks_exact(stride))
+                        .map(|(dd, kk)| dd * kk[i])
+                        .sum::<f64>();
+                *o = y0 + s * (ydiff + s1 * (bspl + s * (r4 + s1 * r5)));
+            }
         } else {
-            rk_step(&RK4, d, &self.z0[..n], None, tau, evals).0
-        };
-        (advance(&self.q0, &z), z)
+            out.copy_from_slice(&rk_step(&RK4, d, &self.z0[..n], None, tau, evals).0);
+        }
+        advance(&self.q0, out)
     }
 }
 

@@ -235,13 +235,14 @@ impl Trajectory {
             ),
             Some(step) => {
                 let mut evals = 0;
-                let (q, z) = if full {
-                    step.at(d, t, &mut evals)
+                let (q, w, z) = if full {
+                    let (q, z) = step.at(d, t, &mut evals);
+                    (q, q * body_rate(&z), Some(z))
                 } else {
-                    step.at_state(d, t, &mut evals)
+                    let (q, z) = step.at_state(d, t, &mut evals);
+                    (q, q * body_rate(&z), None)
                 };
                 Counters::bump(&self.counters.gyroscopic, evals);
-                let w = q * body_rate(&z);
                 (
                     BodyState {
                         x: tr.x,
@@ -249,7 +250,7 @@ impl Trajectory {
                         v: tr.v,
                         w,
                     },
-                    Some(z),
+                    z,
                 )
             }
         }
