@@ -965,10 +965,18 @@ impl World<'_> {
                 let tn = t - e / rate;
                 if tn > t
                     && tn <= t1
-                    && let Some((cn, _)) = self.contact(pair, tn, f64::INFINITY)
+                    && let Some((cn, rate_n)) = self.contact(pair, tn, f64::INFINITY)
                 {
-                    if cn.distance + skin <= 0.0 {
+                    let en = cn.distance + skin;
+                    if en <= 0.0 {
                         return Ok(self.refine(pair, skin, t, tn, tol.root));
+                    }
+                    if en <= tol.root && rate_n < 0.0 {
+                        // The probe landed on the root itself, approaching:
+                        // the bracket's refinement would return this very
+                        // time. (Certified steps would crawl the last
+                        // nanometres to it.)
+                        return Ok(Some((tn, cn)));
                     }
                     short = true;
                 }
