@@ -221,7 +221,79 @@ pub fn part_contacts(
     pose_b: &Isometry3<f64>,
     max_distance: f64,
 ) -> Vec<Contact> {
-    finite_part_contacts(a, pose_a, b, pose_b, max_distance)
+    Placement::new(a, pose_a).part_contacts(&Placement::new(b, pose_b), max_distance)
+}
+
+/// A geometry placed in the world for contact queries: each part's world
+/// frame and bounds, computed once. A static obstacle's is computed once
+/// per simulation; a body's once per query.
+pub struct Placement<'g> {
+    parts: Vec<Placed<'g>>,
+}
+
+impl<'g> Placement<'g> {
+    /// `g` placed at `pose`.
+    pub fn new(g: &'g Geometry, pose: &'g Isometry3<f64>) -> Placement<'g> {
+        Placement {
+            parts: g.parts.iter().map(|p| Placed::new(p, pose)).collect(),
+        }
+    }
+
+    /// As [`part_contacts`], between this placement (`a`) and `b`.
+    pub fn part_contacts(&self, b: &Placement, max_distance: f64) -> Vec<Contact> {
+        let mut out = Vec::new();
+        for (ia, x) in self.parts.iter().enumerate() {
+            for (ib, y) in b.parts.iter().enumerate() {
+                if !x.beyond(y, max_distance)
+                    && let Some(c) = x.contact(y, (ia, ib), max_distance)
+                {
+                    out.push(c);
+                }
+            }
+        }
+        out
+    }
+
+    /// As [`contact`], between this placement (`a`) and `b`.
+    pub fn contact(&self, b: &Placement, max_distance: f64) -> Option<Contact> {
+        let (pa, pb) = (&self.parts, &b.parts);
+        if let ([x], [y]) = (pa.as_slice(), pb.as_slice()) {
+            // One part pair: nothing to order.
+            return (!x.beyond(y, max_distance))
+                .then(|| x.contact(y, (0, 0), max_distance))
+                .flatten();
+        }
+        // Ask the part pairs in the order of their distance bounds: the
+        // closest distance found so far caps every later pair's (a pair
+        // whose bound is larger cannot be closer), so the search stops at
+        // the first pair bounded beyond it. Of equally close part pairs the
+        // first in part order wins.
+        let mut pairs: Vec<(f64, (usize, usize))> = (0..pa.len())
+            .flat_map(|ia| (0..pb.len()).map(move |ib| (ia, ib)))
+            .map(|(ia, ib)| (pa[ia].bound(&pb[ib]), (ia, ib)))
+            .collect();
+        pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut best: Option<Contact> = None;
+        for (bound, (ia, ib)) in pairs {
+            let cap = best.map_or(max_distance, |c| c.distance.min(max_distance));
+            if bound > cap + BOUND_SLACK {
+                break;
+            }
+            let Some(c) = pa[ia].contact(&pb[ib], (ia, ib), cap) else {
+                continue;
+            };
+            let closer = |b: &Contact| {
+                c.distance
+                    .total_cmp(&b.distance)
+                    .then((ia, ib).cmp(&(b.part_a, b.part_b)))
+                    .is_lt()
+            };
+            if best.as_ref().is_none_or(closer) {
+                best = Some(c);
+            }
+        }
+        best
+    }
 }
 
 /// How much a part pair's bound may exceed a distance (m) before the pair
@@ -266,11 +338,6 @@ impl<'g> Placed<'g> {
             frame,
             plane,
         }
-    }
-
-    /// Every part of `g` placed by `pose`.
-    fn all(g: &'g Geometry, pose: &'g Isometry3<f64>) -> Vec<Placed<'g>> {
-        g.parts.iter().map(|p| Placed::new(p, pose)).collect()
     }
 
     /// Whether the two parts are certainly farther apart than `distance`
@@ -349,28 +416,6 @@ impl<'g> Placed<'g> {
 fn over_plane((m, c, h): &(Mat3, Vec3, Vec3), (n, p0): &(Vec3, Vec3)) -> f64 {
     let along = m.transpose() * n;
     n.dot(&(c - p0)) - h.dot(&along.abs())
-}
-
-/// The finite part contacts closer than `max_distance`, in part order.
-fn finite_part_contacts(
-    a: &Geometry,
-    pose_a: &Isometry3<f64>,
-    b: &Geometry,
-    pose_b: &Isometry3<f64>,
-    max_distance: f64,
-) -> Vec<Contact> {
-    let (pa, pb) = (Placed::all(a, pose_a), Placed::all(b, pose_b));
-    let mut out = Vec::new();
-    for (ia, x) in pa.iter().enumerate() {
-        for (ib, y) in pb.iter().enumerate() {
-            if !x.beyond(y, max_distance)
-                && let Some(c) = x.contact(y, (ia, ib), max_distance)
-            {
-                out.push(c);
-            }
-        }
-    }
-    out
 }
 
 /// A point of one geometry close to another (see [`near_points`]).
@@ -717,44 +762,7 @@ pub fn contact(
     pose_b: &Isometry3<f64>,
     max_distance: f64,
 ) -> Option<Contact> {
-    // Ask the part pairs in the order of their distance bounds: the closest
-    // distance found so far caps every later pair's (a pair whose bound is
-    // larger cannot be closer), so the search stops at the first pair
-    // bounded beyond it. Of equally close part pairs the first in part
-    // order wins.
-    if let ([pa], [pb]) = (a.parts.as_slice(), b.parts.as_slice()) {
-        // One part pair: nothing to order.
-        let (pa, pb) = (Placed::new(pa, pose_a), Placed::new(pb, pose_b));
-        return (!pa.beyond(&pb, max_distance))
-            .then(|| pa.contact(&pb, (0, 0), max_distance))
-            .flatten();
-    }
-    let (pa, pb) = (Placed::all(a, pose_a), Placed::all(b, pose_b));
-    let mut pairs: Vec<(f64, (usize, usize))> = (0..pa.len())
-        .flat_map(|ia| (0..pb.len()).map(move |ib| (ia, ib)))
-        .map(|(ia, ib)| (pa[ia].bound(&pb[ib]), (ia, ib)))
-        .collect();
-    pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
-    let mut best: Option<Contact> = None;
-    for (bound, (ia, ib)) in pairs {
-        let cap = best.map_or(max_distance, |c| c.distance.min(max_distance));
-        if bound > cap + BOUND_SLACK {
-            break;
-        }
-        let Some(c) = pa[ia].contact(&pb[ib], (ia, ib), cap) else {
-            continue;
-        };
-        let closer = |b: &Contact| {
-            c.distance
-                .total_cmp(&b.distance)
-                .then((ia, ib).cmp(&(b.part_a, b.part_b)))
-                .is_lt()
-        };
-        if best.as_ref().is_none_or(closer) {
-            best = Some(c);
-        }
-    }
-    best
+    Placement::new(a, pose_a).contact(&Placement::new(b, pose_b), max_distance)
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 
 use super::state::{BodyState, StateSide};
 use super::trajectory::{Counters, Party, Trajectory};
-use crate::geometry::{Contact, Geometry, Part, contact};
+use crate::geometry::{Contact, Geometry, Part, Placement};
 use crate::math::Vec3;
 use crate::scene::Scene;
 use nalgebra::{Isometry3, Point3, Translation3};
@@ -55,6 +55,8 @@ pub(crate) struct Tolerances {
 pub(crate) struct World<'a> {
     pub scene: &'a Scene,
     pub traj: &'a Trajectory,
+    /// Every obstacle placed for contact queries (they never move).
+    pub obstacles: &'a [Placement<'a>],
 }
 
 fn isometry(s: &BodyState) -> Isometry3<f64> {
@@ -793,16 +795,28 @@ impl World<'_> {
         sb: &Option<BodyState>,
         max_distance: f64,
     ) -> Vec<Contact> {
-        let pa = self.pose(Party::Body(pair.a), sa);
-        let pb = self.pose(pair.b, sb);
         Counters::bump(&self.traj.counters.collisions, 1);
-        crate::geometry::part_contacts(
-            self.geometry(Party::Body(pair.a)),
-            &pa,
-            self.geometry(pair.b),
-            &pb,
-            max_distance,
-        )
+        self.placed(pair, sa, sb, |a, b| a.part_contacts(b, max_distance))
+    }
+
+    /// `query` of the pair's two parties placed for contact queries (an
+    /// obstacle's placement is the simulation's).
+    fn placed<R>(
+        &self,
+        pair: &Pair,
+        sa: &Option<BodyState>,
+        sb: &Option<BodyState>,
+        query: impl FnOnce(&Placement, &Placement) -> R,
+    ) -> R {
+        let pa = self.pose(Party::Body(pair.a), sa);
+        let a = Placement::new(self.geometry(Party::Body(pair.a)), &pa);
+        match pair.b {
+            Party::Obstacle(o) => query(&a, &self.obstacles[o]),
+            Party::Body(_) => {
+                let pb = self.pose(pair.b, sb);
+                query(&a, &Placement::new(self.geometry(pair.b), &pb))
+            }
+        }
     }
 
     /// The closest of `contacts` (the first of equals, as [`contact`]
@@ -836,16 +850,8 @@ impl World<'_> {
         sb: &Option<BodyState>,
         max_distance: f64,
     ) -> Option<(Contact, f64)> {
-        let pa = self.pose(Party::Body(pair.a), sa);
-        let pb = self.pose(pair.b, sb);
         Counters::bump(&self.traj.counters.collisions, 1);
-        let c = contact(
-            self.geometry(Party::Body(pair.a)),
-            &pa,
-            self.geometry(pair.b),
-            &pb,
-            max_distance,
-        )?;
+        let c = self.placed(pair, sa, sb, |a, b| a.contact(b, max_distance))?;
         Some((c, Self::normal_rate(&c, sa, sb)))
     }
 
@@ -1044,6 +1050,7 @@ impl World<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::contact;
     use crate::math::{Rng, exp_so3};
     use nalgebra::UnitQuaternion;
 

@@ -215,6 +215,8 @@ struct Sim<'a> {
     /// The index in `pairs` of each listed body–body pair `(a, b)`.
     body_pairs: std::collections::HashMap<(usize, usize), usize>,
     obstacle_boxes: Vec<Option<(Vec3, Vec3)>>,
+    /// Every obstacle placed for contact queries, once.
+    obstacles: Vec<crate::geometry::Placement<'a>>,
     tol: Tolerances,
     /// Per pair, what its last event search established; valid while the
     /// motions it read are unchanged (cleared when either body starts a new
@@ -396,6 +398,11 @@ pub fn simulate(
             .collect(),
         pairs,
         obstacle_boxes,
+        obstacles: scene
+            .obstacles
+            .iter()
+            .map(|o| crate::geometry::Placement::new(&o.geometry, &o.pose))
+            .collect(),
         tol: Tolerances {
             root,
             arm: (10.0 * root).max(1e-9),
@@ -686,6 +693,7 @@ impl Sim<'_> {
         let world = World {
             scene: self.scene,
             traj: &self.traj,
+            obstacles: &self.obstacles,
         };
         // Re-arm pairs that have separated by more than the arm distance.
         for (p, searched) in self.pairs.iter_mut().zip(self.searched.iter_mut()) {
