@@ -241,7 +241,7 @@ impl<'g> Placement<'g> {
 
     /// As [`part_contacts`], between this placement (`a`) and `b`.
     pub fn part_contacts(&self, b: &Placement, max_distance: f64) -> Vec<Contact> {
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(self.parts.len().max(b.parts.len()));
         for (ia, x) in self.parts.iter().enumerate() {
             for (ib, y) in b.parts.iter().enumerate() {
                 if !x.beyond(y, max_distance)

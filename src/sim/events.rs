@@ -629,7 +629,20 @@ impl World<'_> {
             }
             Some(())
         }
-        let (mut ha, mut hb) = (Vec::new(), Vec::new());
+        let most = |g: &crate::geometry::Geometry| {
+            g.parts
+                .iter()
+                .map(|p| match &p.kind {
+                    crate::geometry::PartKind::Convex { vertices, .. } => vertices.len(),
+                    _ => 1,
+                })
+                .max()
+                .unwrap_or(1)
+        };
+        let (mut ha, mut hb) = (
+            Vec::with_capacity(most(ga)),
+            Vec::with_capacity(if moving_b.is_some() { most(gb) } else { 0 }),
+        );
         let mut best = [f64::INFINITY; K];
         // Part contacts with an obstacle and their fixed-plane steps.
         let mut fixed: Vec<(&Contact, usize, [f64; K], bool)> = Vec::with_capacity(planes.len());
