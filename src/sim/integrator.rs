@@ -410,7 +410,9 @@ impl Step {
     /// Dormand–Prince dense output, or for RK4 a fresh step of length `t − t0`
     /// (both as accurate as the step itself).
     pub fn at(&self, d: &BodyDynamics, t: f64, evals: &mut u64) -> (UnitQuaternion<f64>, Vec<f64>) {
-        self.at_len(d, t, evals, self.z0.len())
+        let mut z = vec![0.0; self.z0.len()];
+        let q = self.at_into(d, t, evals, &mut z);
+        (q, z)
     }
 
     /// As [`Step::at`] for the state part only (`w`, `θ`): the state does not
@@ -423,18 +425,6 @@ impl Step {
         evals: &mut u64,
     ) -> (UnitQuaternion<f64>, [f64; Z_STATE]) {
         let mut z = [0.0; Z_STATE];
-        let q = self.at_into(d, t, evals, &mut z);
-        (q, z)
-    }
-
-    fn at_len(
-        &self,
-        d: &BodyDynamics,
-        t: f64,
-        evals: &mut u64,
-        n: usize,
-    ) -> (UnitQuaternion<f64>, Vec<f64>) {
-        let mut z = vec![0.0; n.min(self.z0.len())];
         let q = self.at_into(d, t, evals, &mut z);
         (q, z)
     }
