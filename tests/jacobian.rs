@@ -752,7 +752,7 @@ fn rotation_tangents_are_integrated_only_where_a_control_reaches_them() {
         tr.tracks[0]
             .segments
             .iter()
-            .filter_map(|seg| seg.steps.first().map(|st| st.z0.len()))
+            .filter_map(|seg| seg.steps.first().map(|st| st.z0().len()))
             .collect()
     };
     // In the air only.

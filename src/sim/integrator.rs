@@ -187,10 +187,10 @@ const DOPRI_D: [f64; 7] = [
     69997945.0 / 29380423.0,
 ];
 
-/// One step of an explicit RK method from `z0` (whose `θ` part is zero).
-/// Returns the end value and the stage derivatives, stage-major in one
-/// buffer (stage `i` at `[i·n, (i+1)·n)`, `n = z0.len()`): a step then
-/// costs two allocations (stages and end value), not one per stage. `first`, when given, is
+/// One step of an explicit RK method from `z0` (whose `θ` part is zero):
+/// the end value into `z1` and the stage derivatives into `k`, stage-major
+/// (stage `i` at `[i·n, (i+1)·n)`, `n = z0.len()`). The caller owns both
+/// buffers, so a step allocates nothing here. `first`, when given, is
 /// `f(z0)` (see [`first_stage`]) and is not evaluated again.
 fn rk_step(
     tab: &Tableau,
@@ -199,24 +199,21 @@ fn rk_step(
     first: Option<&[f64]>,
     h: f64,
     evals: &mut u64,
-) -> (Vec<f64>, Vec<f64>) {
+    (z1, k): (&mut [f64], &mut [f64]),
+) {
     let n = z0.len();
     let s = tab.c.len();
-    // Each stage is written once, so the buffer is not zeroed up front
-    // (a zeroing allocation per step was a tenth of the mug's instructions).
-    let mut k = Vec::with_capacity(s * n);
     let mut stage = [0.0; Z_LEN];
     let zi = &mut stage[..n];
     let start = match first {
         Some(f0) => {
-            k.extend_from_slice(f0);
+            k[..n].copy_from_slice(f0);
             1
         }
         None => 0,
     };
     for i in start..s {
         zi.copy_from_slice(z0);
-        k.resize((i + 1) * n, 0.0);
         let (done, rest) = k.split_at_mut(i * n);
         for (j, aij) in tab.a[i].iter().enumerate() {
             if *aij != 0.0 {
@@ -228,7 +225,7 @@ fn rk_step(
         rhs(d, zi, &mut rest[..n]);
         *evals += 1;
     }
-    let mut z1 = z0.to_vec();
+    z1.copy_from_slice(z0);
     for (i, bi) in tab.b.iter().enumerate() {
         if *bi != 0.0 {
             for (zv, kv) in z1.iter_mut().zip(&k[i * n..(i + 1) * n]) {
@@ -236,7 +233,13 @@ fn rk_step(
             }
         }
     }
-    (z1, k)
+}
+
+/// An RK4 step's end value from `z0` (stages on the stack).
+fn rk4_end(d: &BodyDynamics, z0: &[f64], h: f64, evals: &mut u64, z1: &mut [f64]) {
+    let n = z0.len();
+    let mut k = [0.0; 4 * Z_LEN];
+    rk_step(&RK4, d, z0, None, h, evals, (z1, &mut k[..4 * n]));
 }
 
 /// A completed integration step, kept so the state can be queried anywhere inside it.
@@ -248,13 +251,12 @@ pub struct Step {
     pub h: f64,
     /// Orientation at the start.
     pub q0: UnitQuaternion<f64>,
-    /// Integrated vector at the start (its `θ` part is zero).
-    pub z0: Vec<f64>,
-    /// Integrated vector at the end.
-    pub z1: Vec<f64>,
-    /// Stage derivatives, stage-major (stage `i` at `[i·n, (i+1)·n)` with
-    /// `n = z0.len()`; Dormand–Prince only, for dense output).
-    pub k: Vec<f64>,
+    /// Length `n` of the integrated vector.
+    n: usize,
+    /// The integrated vector at the start (its `θ` part is zero) and at
+    /// the end, then (Dormand–Prince only, for dense output) the stage
+    /// derivatives, stage-major: one allocation per step.
+    data: Vec<f64>,
     /// Whether the step used the adaptive pair.
     pub adaptive: bool,
 }
@@ -264,18 +266,21 @@ pub fn step_rk4(
     d: &BodyDynamics,
     t0: f64,
     q0: UnitQuaternion<f64>,
-    z0: Vec<f64>,
+    z0: &[f64],
     h: f64,
     evals: &mut u64,
 ) -> Step {
-    let (z1, _) = rk_step(&RK4, d, &z0, None, h, evals);
+    let n = z0.len();
+    let mut data = vec![0.0; 2 * n];
+    data[..n].copy_from_slice(z0);
+    let (z0, z1) = data.split_at_mut(n);
+    rk4_end(d, z0, h, evals, z1);
     Step {
         t0,
         h,
         q0,
-        z0,
-        z1,
-        k: Vec::new(),
+        n,
+        data,
         adaptive: false,
     }
 }
@@ -296,9 +301,9 @@ pub fn free_rotation(
     let mut z = initial(w, Columns::None);
     let mut evals = 0;
     for k in 0..steps {
-        let step = step_rk4(d, k as f64 * h, q, z, h, &mut evals);
-        q = advance(&step.q0, &step.z1);
-        z = step.z1;
+        let step = step_rk4(d, k as f64 * h, q, &z, h, &mut evals);
+        q = advance(&step.q0, step.z1());
+        z.copy_from_slice(step.z1());
         z[3..6].fill(0.0);
         visit(k, &q, &body_rate(&z));
     }
@@ -339,15 +344,24 @@ pub fn step_dopri(
     d: &BodyDynamics,
     t0: f64,
     q0: UnitQuaternion<f64>,
-    z0: Vec<f64>,
+    z0: &[f64],
     f0: &[f64],
     h: f64,
     tol: f64,
     evals: &mut u64,
 ) -> (Step, f64) {
-    let (z1, k) = rk_step(&DOPRI5, d, &z0, Some(f0), h, evals);
-    // The error estimate `Σ_j e_j k_j` (times h below), one stage at a time.
     let n = z0.len();
+    let s = DOPRI5.c.len();
+    // `z0`, `z1` (set by the step), the first stage, the other stages.
+    let mut data = Vec::with_capacity((2 + s) * n);
+    data.extend_from_slice(z0);
+    data.extend_from_slice(z0);
+    data.extend_from_slice(f0);
+    data.resize((2 + s) * n, 0.0);
+    let (ends, k) = data.split_at_mut(2 * n);
+    let (z0, z1) = ends.split_at_mut(n);
+    rk_step(&DOPRI5, d, z0, Some(f0), h, evals, (z1, k));
+    // The error estimate `Σ_j e_j k_j` (times h below), one stage at a time.
     let mut err = [0.0; Z_LEN];
     let err = &mut err[..n];
     for (ej, kj) in DOPRI5.e.iter().zip(k.chunks_exact(n)) {
@@ -368,17 +382,16 @@ pub fn step_dopri(
         (sum / len as f64).sqrt()
     };
     let mut norm = scaled_rms(0..Z_STATE, tol);
-    if z0.len() > Z_STATE {
-        norm = norm.max(scaled_rms(Z_STATE..z0.len(), tol * TANGENT_TOL_FACTOR));
+    if n > Z_STATE {
+        norm = norm.max(scaled_rms(Z_STATE..n, tol * TANGENT_TOL_FACTOR));
     }
     (
         Step {
             t0,
             h,
             q0,
-            z0,
-            z1,
-            k,
+            n,
+            data,
             adaptive: true,
         },
         norm,
@@ -386,19 +399,36 @@ pub fn step_dopri(
 }
 
 impl Step {
+    /// The integrated vector at the start (its `θ` part is zero).
+    pub fn z0(&self) -> &[f64] {
+        &self.data[..self.n]
+    }
+
+    /// The integrated vector at the end.
+    pub fn z1(&self) -> &[f64] {
+        &self.data[self.n..2 * self.n]
+    }
+
+    /// Stage derivatives, stage-major (Dormand–Prince only; empty for RK4).
+    fn k(&self) -> &[f64] {
+        &self.data[2 * self.n..]
+    }
+
     /// `f` at the start of the next step, `z1` with its local rotation `θ`
-    /// reset to zero, without evaluating it: Dormand–Prince's last stage is
-    /// evaluated at `z1` itself (first same as last), and of `f` only the
-    /// `θ̇` rows depend on `θ`. `None` for an RK4 step.
-    pub fn end_derivative(&self) -> Option<Vec<f64>> {
+    /// reset to zero, into `f`, without evaluating it: Dormand–Prince's
+    /// last stage is evaluated at `z1` itself (first same as last), and of
+    /// `f` only the `θ̇` rows depend on `θ`. `false` (and `f` untouched)
+    /// for an RK4 step.
+    pub fn end_derivative_into(&self, f: &mut Vec<f64>) -> bool {
         if !self.adaptive {
-            return None;
+            return false;
         }
-        let n = self.z0.len();
-        let mut f = self.k[(DOPRI5.c.len() - 1) * n..].to_vec();
-        let w = vec3(&self.z1, 0);
+        let n = self.n;
+        f.clear();
+        f.extend_from_slice(&self.k()[(DOPRI5.c.len() - 1) * n..]);
+        let w = vec3(self.z1(), 0);
         f[3..6].copy_from_slice(theta_rate(&Vec3::zeros(), &w).as_slice());
-        Some(f)
+        true
     }
 
     /// End time.
@@ -410,7 +440,7 @@ impl Step {
     /// Dormand–Prince dense output, or for RK4 a fresh step of length `t − t0`
     /// (both as accurate as the step itself).
     pub fn at(&self, d: &BodyDynamics, t: f64, evals: &mut u64) -> (UnitQuaternion<f64>, Vec<f64>) {
-        let mut z = vec![0.0; self.z0.len()];
+        let mut z = vec![0.0; self.n];
         let q = self.at_into(d, t, evals, &mut z);
         (q, z)
     }
@@ -440,34 +470,36 @@ impl Step {
     ) -> UnitQuaternion<f64> {
         let n = out.len();
         let tau = t - self.t0;
+        let (z0, z1) = (self.z0(), self.z1());
         if tau <= 0.0 {
-            out.copy_from_slice(&self.z0[..n]);
+            out.copy_from_slice(&z0[..n]);
             return self.q0;
         }
         if tau >= self.h {
-            out.copy_from_slice(&self.z1[..n]);
-            return advance(&self.q0, &self.z1);
+            out.copy_from_slice(&z1[..n]);
+            return advance(&self.q0, z1);
         }
         if self.adaptive {
             let s = tau / self.h;
             let s1 = 1.0 - s;
-            let stride = self.z0.len();
+            let stride = self.n;
+            let k = self.k();
             for (i, o) in out.iter_mut().enumerate() {
-                let y0 = self.z0[i];
-                let y1 = self.z1[i];
+                let y0 = z0[i];
+                let y1 = z1[i];
                 let ydiff = y1 - y0;
-                let bspl = self.h * self.k[i] - ydiff;
-                let r4 = ydiff - self.h * self.k[6 * stride + i] - bspl;
+                let bspl = self.h * k[i] - ydiff;
+                let r4 = ydiff - self.h * k[6 * stride + i] - bspl;
                 let r5: f64 = self.h
                     * DOPRI_D
                         .iter()
-                        .zip(self.k.chunks_exact(stride))
+                        .zip(k.chunks_exact(stride))
                         .map(|(dd, kk)| dd * kk[i])
                         .sum::<f64>();
                 *o = y0 + s * (ydiff + s1 * (bspl + s * (r4 + s1 * r5)));
             }
         } else {
-            out.copy_from_slice(&rk_step(&RK4, d, &self.z0[..n], None, tau, evals).0);
+            rk4_end(d, &z0[..n], tau, evals, out);
         }
         advance(&self.q0, out)
     }
@@ -551,7 +583,7 @@ mod tests {
         let mut evals = 0;
         let f0 = first_stage(d, z0, &mut evals);
         let q0 = UnitQuaternion::identity();
-        step_dopri(d, 0.0, q0, z0.to_vec(), &f0, h, 1e-9, &mut evals)
+        step_dopri(d, 0.0, q0, z0, &f0, h, 1e-9, &mut evals)
     }
 
     #[test]
@@ -561,17 +593,18 @@ mod tests {
             let z0 = initial(&Vec3::new(0.3, 2.0, 0.1), columns);
             let (st, _) = dopri_from(&d, &z0, 0.05);
             // The step turned the body: θ is not zero at its end.
-            assert!(vec3(&st.z1, 3).norm() > 0.05);
-            let mut next = st.z1.clone();
+            assert!(vec3(st.z1(), 3).norm() > 0.05);
+            let mut next = st.z1().to_vec();
             next[3..6].fill(0.0);
             let fresh = first_stage(&d, &next, &mut 0);
-            let reused = st.end_derivative().expect("an adaptive step");
+            let mut reused = Vec::new();
+            assert!(st.end_derivative_into(&mut reused), "an adaptive step");
             // Bit for bit: reusing it changes no result of the simulator.
             assert_eq!(reused, fresh, "{columns:?}");
         }
         let z0 = initial(&Vec3::new(0.3, 2.0, 0.1), Columns::None);
-        let st = step_rk4(&d, 0.0, UnitQuaternion::identity(), z0, 0.05, &mut 0);
-        assert!(st.end_derivative().is_none());
+        let st = step_rk4(&d, 0.0, UnitQuaternion::identity(), &z0, 0.05, &mut 0);
+        assert!(!st.end_derivative_into(&mut Vec::new()));
     }
 
     /// Dense output reproduces the step end and is close to a fresh step inside.
@@ -583,10 +616,10 @@ mod tests {
         let (st, err) = dopri_from(&d, &z0, 0.05);
         assert!(err.is_finite());
         let (_, zend) = st.at(&d, 0.05 - 1e-15, &mut evals);
-        assert!((zend[0] - st.z1[0]).abs() < 1e-12);
+        assert!((zend[0] - st.z1()[0]).abs() < 1e-12);
         let (_, zmid) = st.at(&d, 0.02, &mut evals);
         let (fresh, _) = dopri_from(&d, &z0, 0.02);
-        for (i, (a, b)) in zmid.iter().zip(&fresh.z1).take(6).enumerate() {
+        for (i, (a, b)) in zmid.iter().zip(fresh.z1()).take(6).enumerate() {
             assert!((a - b).abs() < 1e-8, "component {i}");
         }
     }

@@ -142,14 +142,21 @@ type Saltation = (DMatrix<f64>, DVector<f64>, f64);
 struct Cursor {
     q: UnitQuaternion<f64>,
     z: Vec<f64>,
-    /// `f(z)`, when the step that ended here already evaluated it
-    /// ([`Step::end_derivative`]): the next adaptive step starts with it.
-    f0: Option<Vec<f64>>,
+    /// `f(z)` when `has_f0`: evaluated for the first try of a step, or
+    /// given by the step that ended here ([`Step::end_derivative_into`]);
+    /// every try of the next adaptive step starts with it.
+    f0: Vec<f64>,
+    has_f0: bool,
 }
 
 impl Cursor {
     fn new(q: UnitQuaternion<f64>, z: Vec<f64>) -> Cursor {
-        Cursor { q, z, f0: None }
+        Cursor {
+            q,
+            z,
+            f0: Vec::new(),
+            has_f0: false,
+        }
     }
 }
 
@@ -211,6 +218,8 @@ struct Sim<'a> {
     opts: SimOptions,
     traj: Trajectory,
     cursors: Vec<Option<Cursor>>,
+    /// The steps of one integration try, kept to reuse its allocation.
+    step_buf: Vec<(usize, Step)>,
     pairs: Vec<Pair>,
     /// The index in `pairs` of each listed body–body pair `(a, b)`.
     body_pairs: std::collections::HashMap<(usize, usize), usize>,
@@ -379,6 +388,7 @@ pub fn simulate(
         opts: *opts,
         traj,
         cursors,
+        step_buf: Vec::new(),
         body_pairs: pairs
             .iter()
             .enumerate()
@@ -527,80 +537,74 @@ impl Sim<'_> {
     /// Advance every integrated body by one shared step from `t`. Returns the
     /// step taken and the proposal for the next one.
     fn integrate(&mut self, t: f64, h: f64) -> Result<(f64, f64), SimError> {
-        let active: Vec<usize> = (0..self.cursors.len())
-            .filter(|&i| self.cursors[i].is_some())
-            .collect();
         let mut evals = 0u64;
+        // The steps of one try, in body order (a buffer kept across steps).
+        let mut steps = std::mem::take(&mut self.step_buf);
+        steps.clear();
         let result = match self.scene.accuracy.method {
             Method::Rk4 { .. } => {
-                let mut steps = Vec::new();
-                for &i in &active {
-                    let c = self.cursors[i].as_ref().map(|c| (c.q, c.z.clone()));
-                    if let Some((q, z)) = c {
-                        // A body whose angular velocity would turn by more
-                        // than 0.1 rad in the step (a fast spin of a
-                        // lopsided body) takes it in substeps of 0.1 rad.
-                        let d = &self.traj.dynamics[i];
-                        let rate = d.precession_rate(&integrator::body_rate(&z));
-                        let n = (rate * h / SUBSTEP_TURN).ceil().max(1.0);
-                        if n > MAX_SUBSTEPS as f64 {
-                            return Err(SimError::SpinTooFast {
-                                body: self.scene.bodies[i].name.clone(),
-                                t,
-                                rate,
-                                step: h,
-                            });
-                        }
-                        let n = n as usize;
-                        let hs = h / n as f64;
-                        let (mut q, mut z) = (q, z);
-                        for k in 0..n {
-                            let t0 = if k == 0 { t } else { t + k as f64 * hs };
-                            let len = if k + 1 == n { t + h - t0 } else { hs };
-                            let step = integrator::step_rk4(d, t0, q, z, len, &mut evals);
-                            q = integrator::advance(&step.q0, &step.z1);
-                            z = reset_theta(step.z1.clone());
-                            steps.push((i, step));
-                        }
+                for (i, c) in self.cursors.iter().enumerate() {
+                    let Some(c) = c else { continue };
+                    // A body whose angular velocity would turn by more
+                    // than 0.1 rad in the step (a fast spin of a
+                    // lopsided body) takes it in substeps of 0.1 rad.
+                    let d = &self.traj.dynamics[i];
+                    let rate = d.precession_rate(&integrator::body_rate(&c.z));
+                    let n = (rate * h / SUBSTEP_TURN).ceil().max(1.0);
+                    if n > MAX_SUBSTEPS as f64 {
+                        return Err(SimError::SpinTooFast {
+                            body: self.scene.bodies[i].name.clone(),
+                            t,
+                            rate,
+                            step: h,
+                        });
+                    }
+                    let n = n as usize;
+                    let hs = h / n as f64;
+                    let mut q = c.q;
+                    let mut z = c.z.clone();
+                    for k in 0..n {
+                        let t0 = if k == 0 { t } else { t + k as f64 * hs };
+                        let len = if k + 1 == n { t + h - t0 } else { hs };
+                        let step = integrator::step_rk4(d, t0, q, &z, len, &mut evals);
+                        q = integrator::advance(&step.q0, step.z1());
+                        z.copy_from_slice(step.z1());
+                        z[3..6].fill(0.0);
+                        steps.push((i, step));
                     }
                 }
-                self.push_steps(steps, t + h)?;
+                self.push_steps(&mut steps, t + h)?;
                 (h, h)
             }
             Method::Adaptive { tol, max_step } => {
                 // Every try of this step starts from the same state, so
                 // with the same first stage.
-                let mut f0 = Vec::with_capacity(active.len());
-                for &i in &active {
-                    if let Some(c) = self.cursors[i].as_mut() {
-                        let f = match c.f0.take() {
-                            Some(f) => f,
-                            None => {
-                                integrator::first_stage(&self.traj.dynamics[i], &c.z, &mut evals)
-                            }
-                        };
-                        f0.push(f);
+                for (i, c) in self.cursors.iter_mut().enumerate() {
+                    if let Some(c) = c
+                        && !c.has_f0
+                    {
+                        c.f0 = integrator::first_stage(&self.traj.dynamics[i], &c.z, &mut evals);
+                        c.has_f0 = true;
                     }
                 }
                 let mut hh = h;
                 loop {
-                    let mut steps = Vec::new();
+                    steps.clear();
                     let mut err: f64 = 0.0;
-                    for (&i, f0) in active.iter().zip(&f0) {
-                        if let Some(c) = &self.cursors[i] {
-                            let (s, e) = integrator::step_dopri(
-                                &self.traj.dynamics[i],
-                                t,
-                                c.q,
-                                c.z.clone(),
-                                f0,
-                                hh,
-                                tol,
-                                &mut evals,
-                            );
-                            err = err.max(if e.is_finite() { e } else { f64::INFINITY });
-                            steps.push((i, s));
-                        }
+                    for (i, c) in self.cursors.iter().enumerate() {
+                        let Some(c) = c else { continue };
+                        let (s, e) = integrator::step_dopri(
+                            &self.traj.dynamics[i],
+                            t,
+                            c.q,
+                            &c.z,
+                            &c.f0,
+                            hh,
+                            tol,
+                            &mut evals,
+                        );
+                        err = err.max(if e.is_finite() { e } else { f64::INFINITY });
+                        steps.push((i, s));
                     }
                     if err <= 1.0 {
                         let grow = if err > 0.0 {
@@ -608,7 +612,7 @@ impl Sim<'_> {
                         } else {
                             5.0
                         };
-                        self.push_steps(steps, t + hh)?;
+                        self.push_steps(&mut steps, t + hh)?;
                         break (hh, (hh * grow).min(max_step));
                     }
                     hh *= (0.9 * err.powf(-0.2)).clamp(0.1, 0.9);
@@ -618,24 +622,29 @@ impl Sim<'_> {
                 }
             }
         };
+        self.step_buf = steps;
         Counters::bump(&self.traj.counters.gyroscopic, evals);
         Ok(result)
     }
 
-    fn push_steps(&mut self, steps: Vec<(usize, Step)>, t1: f64) -> Result<(), SimError> {
-        for (i, s) in steps {
-            if !s.z1.iter().take(6).all(|v| v.is_finite()) {
+    /// Append the steps of one try (`(body, step)`, drained) to their
+    /// bodies' segments and move their cursors to the steps' ends.
+    fn push_steps(&mut self, steps: &mut Vec<(usize, Step)>, t1: f64) -> Result<(), SimError> {
+        for (i, s) in steps.drain(..) {
+            if !s.z1().iter().take(6).all(|v| v.is_finite()) {
                 return Err(SimError::NonFinite {
                     body: self.scene.bodies[i].name.clone(),
                     t: t1,
                 });
             }
-            let q = integrator::advance(&s.q0, &s.z1);
-            self.cursors[i] = Some(Cursor {
-                q,
-                z: reset_theta(s.z1.clone()),
-                f0: s.end_derivative(),
-            });
+            let q = integrator::advance(&s.q0, s.z1());
+            if let Some(c) = self.cursors[i].as_mut() {
+                // The cursor's buffers are reused: no allocation per step.
+                c.q = q;
+                c.z.copy_from_slice(s.z1());
+                c.z[3..6].fill(0.0);
+                c.has_f0 = s.end_derivative_into(&mut c.f0);
+            }
             if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
                 seg.steps.push(s);
             }
