@@ -14,8 +14,8 @@ mod feature;
 mod shapes;
 
 pub use contact::{
-    Contact, Corner, FlatFace, NearPoint, Placement, contact, flat_faces, near_points,
-    part_contacts, part_near_points, point_parabola,
+    Contact, Corner, FlatFace, NearPoint, PartContacts, Placement, contact, flat_faces,
+    near_points, part_contacts, part_near_points, point_parabola,
 };
 pub use feature::{ContactGeometry, FeaturePair, PatchCorner, PoseT, SideFeature};
 pub use shapes::{Geometry, GeometryError, MassProps, Part, PartKind};

@@ -2,6 +2,7 @@ use super::shapes::{Geometry, Part, PartKind};
 use crate::math::{Mat3, Vec3};
 use nalgebra::{Isometry3, Point3};
 use parry3d_f64::query;
+use smallvec::SmallVec;
 
 /// The closest approach of two geometries.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -144,13 +145,15 @@ fn part_contact(
     // Bounds farther apart than `max_distance`: no contact to report, and
     // no need to ask parry (a bucket's far walls, most of a compound's
     // parts).
-    if Placed::new(pa, pose_a).beyond(&Placed::new(pb, pose_b), max_distance) {
+    let (x, y) = (Placed::new(pa, pose_a), Placed::new(pb, pose_b));
+    if x.beyond(&y, max_distance) {
         return None;
     }
-    unculled_part_contact(pa, pose_a, pb, pose_b, max_distance)
+    placed_part_contact(pa, &x.world, pb, &y.world, max_distance)
 }
 
-/// [`part_contact`] without the bounds' test (the caller has made it).
+/// [`part_contact`] without the bounds' test.
+#[cfg(test)]
 fn unculled_part_contact(
     pa: &Part,
     pose_a: &Isometry3<f64>,
@@ -158,11 +161,27 @@ fn unculled_part_contact(
     pose_b: &Isometry3<f64>,
     max_distance: f64,
 ) -> Option<Contact> {
-    let wa = pose_a * pa.offset;
-    let wb = pose_b * pb.offset;
+    placed_part_contact(
+        pa,
+        &(pose_a * pa.offset),
+        pb,
+        &(pose_b * pb.offset),
+        max_distance,
+    )
+}
+
+/// The contact of two parts whose own frames are at `wa` and `wb` (world),
+/// without the bounds' test (the caller has made it).
+fn placed_part_contact(
+    pa: &Part,
+    wa: &Isometry3<f64>,
+    pb: &Part,
+    wb: &Isometry3<f64>,
+    max_distance: f64,
+) -> Option<Contact> {
     match (&pa.kind, &pb.kind) {
         (_, PartKind::Parabola { curvature, .. }) => {
-            let (d, n, p_a, p_b) = against_parabola(pa, &wa, &wb, *curvature)?;
+            let (d, n, p_a, p_b) = against_parabola(pa, wa, wb, *curvature)?;
             (d <= max_distance).then_some(Contact {
                 distance: d,
                 normal: n,
@@ -173,7 +192,7 @@ fn unculled_part_contact(
             })
         }
         (PartKind::Parabola { .. }, _) => {
-            unculled_part_contact(pb, pose_b, pa, pose_a, max_distance).map(Contact::flipped)
+            placed_part_contact(pb, wb, pa, wa, max_distance).map(Contact::flipped)
         }
         (PartKind::HalfSpace { .. }, PartKind::HalfSpace { .. }) => None,
         // parry returns a wrong distance and witness points when a half-space
@@ -181,7 +200,7 @@ fn unculled_part_contact(
         (_, PartKind::HalfSpace { .. }) => {
             let sa = pa.shape.as_ref()?;
             let sb = pb.shape.as_ref()?;
-            let c = query::contact(&wb, sb.as_ref(), &wa, sa.as_ref(), max_distance).ok()??;
+            let c = query::contact(wb, sb.as_ref(), wa, sa.as_ref(), max_distance).ok()??;
             // Shape 1 is b (the half-space): normal1 points from b towards a.
             Some(Contact {
                 distance: c.dist,
@@ -193,12 +212,12 @@ fn unculled_part_contact(
             })
         }
         (PartKind::HalfSpace { .. }, _) => {
-            unculled_part_contact(pb, pose_b, pa, pose_a, max_distance).map(Contact::flipped)
+            placed_part_contact(pb, wb, pa, wa, max_distance).map(Contact::flipped)
         }
         _ => {
             let sa = pa.shape.as_ref()?;
             let sb = pb.shape.as_ref()?;
-            let c = query::contact(&wa, sa.as_ref(), &wb, sb.as_ref(), max_distance).ok()??;
+            let c = query::contact(wa, sa.as_ref(), wb, sb.as_ref(), max_distance).ok()??;
             Some(Contact {
                 distance: c.dist,
                 normal: -c.normal1.into_inner(),
@@ -221,27 +240,34 @@ pub fn part_contacts(
     pose_b: &Isometry3<f64>,
     max_distance: f64,
 ) -> Vec<Contact> {
-    Placement::new(a, pose_a).part_contacts(&Placement::new(b, pose_b), max_distance)
+    Placement::new(a, pose_a)
+        .part_contacts(&Placement::new(b, pose_b), max_distance)
+        .into_vec()
 }
+
+/// A few part contacts, kept on the stack (a contact query returns one
+/// per close part pair, rarely more than four).
+pub type PartContacts = SmallVec<[Contact; 4]>;
 
 /// A geometry placed in the world for contact queries: each part's world
 /// frame and bounds, computed once. A static obstacle's is computed once
 /// per simulation; a body's once per query.
 pub struct Placement<'g> {
-    parts: Vec<Placed<'g>>,
+    /// On the stack for a few parts: a body is placed once per query.
+    parts: SmallVec<[Placed<'g>; 4]>,
 }
 
 impl<'g> Placement<'g> {
     /// `g` placed at `pose`.
-    pub fn new(g: &'g Geometry, pose: &'g Isometry3<f64>) -> Placement<'g> {
+    pub fn new(g: &'g Geometry, pose: &Isometry3<f64>) -> Placement<'g> {
         Placement {
             parts: g.parts.iter().map(|p| Placed::new(p, pose)).collect(),
         }
     }
 
     /// As [`part_contacts`], between this placement (`a`) and `b`.
-    pub fn part_contacts(&self, b: &Placement, max_distance: f64) -> Vec<Contact> {
-        let mut out = Vec::with_capacity(self.parts.len().max(b.parts.len()));
+    pub fn part_contacts(&self, b: &Placement, max_distance: f64) -> PartContacts {
+        let mut out = PartContacts::new();
         for (ia, x) in self.parts.iter().enumerate() {
             for (ib, y) in b.parts.iter().enumerate() {
                 if !x.beyond(y, max_distance)
@@ -268,7 +294,7 @@ impl<'g> Placement<'g> {
         // whose bound is larger cannot be closer), so the search stops at
         // the first pair bounded beyond it. Of equally close part pairs the
         // first in part order wins.
-        let mut pairs: Vec<(f64, (usize, usize))> = (0..pa.len())
+        let mut pairs: SmallVec<[(f64, (usize, usize)); 16]> = (0..pa.len())
             .flat_map(|ia| (0..pb.len()).map(move |ib| (ia, ib)))
             .map(|(ia, ib)| (pa[ia].bound(&pb[ib]), (ia, ib)))
             .collect();
@@ -305,8 +331,8 @@ const BOUND_SLACK: f64 = 1e-9;
 /// need, computed once per part rather than once per part pair.
 struct Placed<'g> {
     part: &'g Part,
-    /// The owner's pose.
-    owner: &'g Isometry3<f64>,
+    /// The part's own frame, world.
+    world: Isometry3<f64>,
     /// Centre of the bounding sphere, world.
     centre: Point3<f64>,
     /// The part's frame as a rotation matrix (columns: its axes, world)
@@ -318,7 +344,7 @@ struct Placed<'g> {
 }
 
 impl<'g> Placed<'g> {
-    fn new(part: &'g Part, owner: &'g Isometry3<f64>) -> Placed<'g> {
+    fn new(part: &'g Part, owner: &Isometry3<f64>) -> Placed<'g> {
         let w = owner * part.offset;
         let frame = part.local_box().map(|(c, h)| {
             (
@@ -333,7 +359,7 @@ impl<'g> Placed<'g> {
         };
         Placed {
             part,
-            owner,
+            world: w,
             centre: Point3::from(w.translation.vector),
             frame,
             plane,
@@ -399,8 +425,13 @@ impl<'g> Placed<'g> {
         (ia, ib): (usize, usize),
         max_distance: f64,
     ) -> Option<Contact> {
-        let mut c =
-            unculled_part_contact(self.part, self.owner, other.part, other.owner, max_distance)?;
+        let mut c = placed_part_contact(
+            self.part,
+            &self.world,
+            other.part,
+            &other.world,
+            max_distance,
+        )?;
         if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
             return None;
         }

@@ -9,10 +9,11 @@
 
 use super::state::{BodyState, StateSide};
 use super::trajectory::{Counters, Party, Trajectory};
-use crate::geometry::{Contact, Geometry, Part, Placement};
+use crate::geometry::{Contact, Geometry, Part, PartContacts, Placement};
 use crate::math::Vec3;
 use crate::scene::Scene;
 use nalgebra::{Isometry3, Point3, Translation3};
+use smallvec::SmallVec;
 
 /// A pair that may collide, and whether its event is armed (a pair is
 /// disarmed right after its impulse until it separates by `arm`).
@@ -52,12 +53,16 @@ pub(crate) struct Tolerances {
 }
 
 /// Read-only view of the world at any time during the simulation.
-pub(crate) struct World<'a> {
+pub(crate) struct World<'a, 'g> {
     pub scene: &'a Scene,
     pub traj: &'a Trajectory,
     /// Every obstacle placed for contact queries (they never move).
-    pub obstacles: &'a [Placement<'a>],
+    pub obstacles: &'a [Placement<'g>],
 }
+
+/// A part's points' heights, rates and acceleration bounds over a plane
+/// (on the stack for parts of up to 16 points).
+type Heights = SmallVec<[(f64, f64, f64); 16]>;
 
 fn isometry(s: &BodyState) -> Isometry3<f64> {
     Isometry3::from_parts(Translation3::from(s.x), s.q)
@@ -385,7 +390,7 @@ fn world_vertices(part: &Part, pose: Isometry3<f64>) -> impl Iterator<Item = Vec
         .map(move |v| (pose * Point3::from(*v)).coords)
 }
 
-impl World<'_> {
+impl World<'_, '_> {
     fn geometry(&self, p: Party) -> &Geometry {
         match p {
             Party::Body(i) => &self.scene.bodies[i].geometry,
@@ -593,7 +598,7 @@ impl World<'_> {
             p0: &Vec3,
             vf: &Vec3,
             sign: f64,
-            out: &mut Vec<(f64, f64, f64)>,
+            out: &mut Heights,
         ) -> Option<()> {
             let part = &g.parts[part];
             let (exact, rem, w_max, alpha) = terms;
@@ -640,12 +645,12 @@ impl World<'_> {
                 .unwrap_or(1)
         };
         let (mut ha, mut hb) = (
-            Vec::with_capacity(most(ga)),
-            Vec::with_capacity(if moving_b.is_some() { most(gb) } else { 0 }),
+            Heights::with_capacity(most(ga)),
+            Heights::with_capacity(if moving_b.is_some() { most(gb) } else { 0 }),
         );
         let mut best = [f64::INFINITY; K];
         // Part contacts with an obstacle and their fixed-plane steps.
-        let mut fixed: Vec<(&Contact, usize, [f64; K], bool)> = Vec::with_capacity(planes.len());
+        let mut fixed = SmallVec::<[_; 4]>::with_capacity(planes.len());
         let ball = |g: &crate::geometry::Geometry, part: usize| {
             matches!(g.parts[part].kind, crate::geometry::PartKind::Ball { .. })
         };
@@ -807,7 +812,7 @@ impl World<'_> {
         sa: &Option<BodyState>,
         sb: &Option<BodyState>,
         max_distance: f64,
-    ) -> Vec<Contact> {
+    ) -> PartContacts {
         Counters::bump(&self.traj.counters.collisions, 1);
         self.placed(pair, sa, sb, |a, b| a.part_contacts(b, max_distance))
     }
