@@ -13,7 +13,7 @@ mod so3;
 pub use rng::Rng;
 pub use so3::{
     Mat3, Vec3, exp_so3, left_jacobian, left_jacobian_inv, log_so3, reparameterize, right_jacobian,
-    right_jacobian_inv, rotation_matrix, skew,
+    right_jacobian_inv, right_jacobian_inv_mul, rotation_matrix, skew,
 };
 
 /// True when every entry of the slice is finite (neither NaN nor ±∞).

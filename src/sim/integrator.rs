@@ -9,7 +9,7 @@
 //! obeys `η̇ = −[w]× η + δw`, `δẇ = Df(w) δw + ∂f/∂I δI`.
 
 use super::dynamics::BodyDynamics;
-use crate::math::{Mat3, Vec3, exp_so3, right_jacobian_inv, skew};
+use crate::math::{Mat3, Vec3, exp_so3, right_jacobian_inv_mul, skew};
 use nalgebra::UnitQuaternion;
 
 /// Size of the integrated vector: `w` (3), `θ` (3), `Y` (6×9).
@@ -55,7 +55,7 @@ fn vec3(z: &[f64], at: usize) -> Vec3 {
 
 /// `θ̇ = J_r⁻¹(θ) w`: the only rows of [`rhs`] that depend on `θ`.
 fn theta_rate(theta: &Vec3, w: &Vec3) -> Vec3 {
-    right_jacobian_inv(theta) * w
+    right_jacobian_inv_mul(theta, w)
 }
 
 /// Right-hand side of the integrated system; `z` has one of the lengths of
