@@ -278,21 +278,24 @@ pub(crate) fn decide(i: &Impact<'_>) -> Mode {
     }
     let down = g / gn;
     // Whether contact forces inside the friction cones of the support
-    // points (on every obstacle) can balance the weight.
-    let mut held_by = Vec::new();
-    for o in 0..scene.obstacles.len() {
-        let friction = pair_friction(scene, i.body, o);
-        held_by.extend(
-            supports(scene, i.body, o, s, i.band)
-                .into_iter()
-                .map(|p| Support {
-                    point: p.point,
-                    normal: p.normal,
-                    friction,
-                }),
-        );
-    }
-    let held = slow && statics::held(&held_by, &s.x, &down, i.dynamics.reach);
+    // points (on every obstacle) can balance the weight: asked only of a
+    // body slow enough to rest (finding the supports is most of the cost
+    // of an impact that bounces).
+    let held =
+        slow && {
+            let mut held_by = Vec::new();
+            for o in 0..scene.obstacles.len() {
+                let friction = pair_friction(scene, i.body, o);
+                held_by.extend(supports(scene, i.body, o, s, i.band).into_iter().map(|p| {
+                    Support {
+                        point: p.point,
+                        normal: p.normal,
+                        friction,
+                    }
+                }));
+            }
+            statics::held(&held_by, &s.x, &down, i.dynamics.reach)
+        };
     if held {
         return Mode::Rest;
     }
