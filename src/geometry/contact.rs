@@ -331,10 +331,9 @@ const BOUND_SLACK: f64 = 1e-9;
 /// need, computed once per part rather than once per part pair.
 struct Placed<'g> {
     part: &'g Part,
-    /// The part's own frame, world.
+    /// The part's own frame, world (its origin is the bounding sphere's
+    /// centre).
     world: Isometry3<f64>,
-    /// Centre of the bounding sphere, world.
-    centre: Point3<f64>,
     /// The part's frame as a rotation matrix (columns: its axes, world)
     /// and its bounding box's centre (world) and half extents; `None`
     /// without a box.
@@ -360,7 +359,6 @@ impl<'g> Placed<'g> {
         Placed {
             part,
             world: w,
-            centre: Point3::from(w.translation.vector),
             frame,
             plane,
         }
@@ -382,7 +380,9 @@ impl<'g> Placed<'g> {
     /// Distance between the bounding spheres (negative when they overlap;
     /// −∞ for an unbounded part).
     fn sphere_gap(&self, other: &Placed) -> f64 {
-        (self.centre - other.centre).norm() - self.part.local_radius() - other.part.local_radius()
+        (self.world.translation.vector - other.world.translation.vector).norm()
+            - self.part.local_radius()
+            - other.part.local_radius()
     }
 
     /// The separation of the two parts' bounding boxes along the boxes'

@@ -634,20 +634,7 @@ impl World<'_, '_> {
             }
             Some(())
         }
-        let most = |g: &crate::geometry::Geometry| {
-            g.parts
-                .iter()
-                .map(|p| match &p.kind {
-                    crate::geometry::PartKind::Convex { vertices, .. } => vertices.len(),
-                    _ => 1,
-                })
-                .max()
-                .unwrap_or(1)
-        };
-        let (mut ha, mut hb) = (
-            Heights::with_capacity(most(ga)),
-            Heights::with_capacity(if moving_b.is_some() { most(gb) } else { 0 }),
-        );
+        let (mut ha, mut hb) = (Heights::new(), Heights::new());
         let mut best = [f64::INFINITY; K];
         // Part contacts with an obstacle and their fixed-plane steps.
         let mut fixed = SmallVec::<[_; 4]>::with_capacity(planes.len());

@@ -302,9 +302,7 @@ pub fn free_rotation(
     let mut evals = 0;
     for k in 0..steps {
         let step = step_rk4(d, k as f64 * h, q, &z, h, &mut evals);
-        q = advance(&step.q0, step.z1());
-        z.copy_from_slice(step.z1());
-        z[3..6].fill(0.0);
+        q = step.end_into(&mut z);
         visit(k, &q, &body_rate(&z));
     }
     (q, body_rate(&z))
@@ -352,7 +350,8 @@ pub fn step_dopri(
 ) -> (Step, f64) {
     let n = z0.len();
     let s = DOPRI5.c.len();
-    // `z0`, `z1` (set by the step), the first stage, the other stages.
+    // `z0`; `z1`, which the step starts from `z0`; the first stage, `f0`;
+    // the other stages, zeroed until the step writes them.
     let mut data = Vec::with_capacity((2 + s) * n);
     data.extend_from_slice(z0);
     data.extend_from_slice(z0);
@@ -407,6 +406,15 @@ impl Step {
     /// The integrated vector at the end.
     pub fn z1(&self) -> &[f64] {
         &self.data[self.n..2 * self.n]
+    }
+
+    /// Where the next step starts: the orientation at the end, returned,
+    /// and the integrated vector at the end with its local rotation `θ`
+    /// reset to zero (folded into the orientation), into `z`.
+    pub fn end_into(&self, z: &mut [f64]) -> UnitQuaternion<f64> {
+        z.copy_from_slice(self.z1());
+        z[3..6].fill(0.0);
+        advance(&self.q0, self.z1())
     }
 
     /// Stage derivatives, stage-major (Dormand–Prince only; empty for RK4).

@@ -142,11 +142,10 @@ type Saltation = (DMatrix<f64>, DVector<f64>, f64);
 struct Cursor {
     q: UnitQuaternion<f64>,
     z: Vec<f64>,
-    /// `f(z)` when `has_f0`: evaluated for the first try of a step, or
-    /// given by the step that ended here ([`Step::end_derivative_into`]);
+    /// `f(z)` (empty until known): evaluated for the first try of a step,
+    /// or given by the step that ended here ([`Step::end_derivative_into`]);
     /// every try of the next adaptive step starts with it.
     f0: Vec<f64>,
-    has_f0: bool,
 }
 
 impl Cursor {
@@ -155,7 +154,6 @@ impl Cursor {
             q,
             z,
             f0: Vec::new(),
-            has_f0: false,
         }
     }
 }
@@ -567,9 +565,7 @@ impl Sim<'_> {
                         let t0 = if k == 0 { t } else { t + k as f64 * hs };
                         let len = if k + 1 == n { t + h - t0 } else { hs };
                         let step = integrator::step_rk4(d, t0, q, &z, len, &mut evals);
-                        q = integrator::advance(&step.q0, step.z1());
-                        z.copy_from_slice(step.z1());
-                        z[3..6].fill(0.0);
+                        q = step.end_into(&mut z);
                         steps.push((i, step));
                     }
                 }
@@ -581,10 +577,9 @@ impl Sim<'_> {
                 // with the same first stage.
                 for (i, c) in self.cursors.iter_mut().enumerate() {
                     if let Some(c) = c
-                        && !c.has_f0
+                        && c.f0.is_empty()
                     {
                         c.f0 = integrator::first_stage(&self.traj.dynamics[i], &c.z, &mut evals);
-                        c.has_f0 = true;
                     }
                 }
                 let mut hh = h;
@@ -637,13 +632,12 @@ impl Sim<'_> {
                     t: t1,
                 });
             }
-            let q = integrator::advance(&s.q0, s.z1());
             if let Some(c) = self.cursors[i].as_mut() {
                 // The cursor's buffers are reused: no allocation per step.
-                c.q = q;
-                c.z.copy_from_slice(s.z1());
-                c.z[3..6].fill(0.0);
-                c.has_f0 = s.end_derivative_into(&mut c.f0);
+                c.q = s.end_into(&mut c.z);
+                if !s.end_derivative_into(&mut c.f0) {
+                    c.f0.clear();
+                }
             }
             if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
                 seg.steps.push(s);
