@@ -39,6 +39,11 @@ impl Contact {
 /// Solves `2κ² s³ + (1 + 2κ z) s − x = 0` by safeguarded Newton iteration.
 pub fn point_parabola(curvature: f64, x: f64, z: f64) -> f64 {
     let k = curvature;
+    if !(k.is_finite() && x.is_finite() && z.is_finite()) {
+        // No foot for a point that is not a point: the caller's finiteness
+        // check turns the NaN distance into a typed error.
+        return f64::NAN;
+    }
     let g = |s: f64| 2.0 * k * k * s * s * s + (1.0 + 2.0 * k * z) * s - x;
     let dg = |s: f64| 6.0 * k * k * s * s + 1.0 + 2.0 * k * z;
     // The foot lies between 0 and x (|s| ≤ |x|) for points above the vertex
@@ -1072,5 +1077,36 @@ mod tests {
     fn far_pairs_return_none() {
         let ball = Geometry::sphere(0.5).unwrap();
         assert!(contact(&ball, &at(5.0, 0.0, 0.0), &ball, &at(0.0, 0.0, 0.0), 1.0).is_none());
+    }
+
+    /// Extreme but finite numbers (and non-finite ones) never panic the
+    /// parabola's closest-point search: its answer is a foot on the curve,
+    /// or NaN when no foot exists, which the simulation turns into a typed
+    /// error. It used to panic in `clamp` on a NaN bracket.
+    #[test]
+    fn the_parabola_search_never_panics_on_extreme_numbers() {
+        let extremes = [
+            0.0,
+            1.0,
+            -1.0,
+            1e308,
+            -1e308,
+            1e-308,
+            -1e-308,
+            f64::MIN_POSITIVE / 4.0,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        for &k in &extremes {
+            for &x in &extremes {
+                for &z in &extremes {
+                    let s = point_parabola(k, x, z);
+                    let all_finite = k.is_finite() && x.is_finite() && z.is_finite();
+                    assert!(all_finite || s.is_nan(), "k={k} x={x} z={z}: {s}");
+                }
+            }
+        }
     }
 }

@@ -249,6 +249,26 @@ struct Searched {
     hit: Option<(f64, crate::geometry::Contact)>,
 }
 
+/// Whether the motion that starts at `s` stays within the finite numbers
+/// for `duration` seconds as far as its invariants tell: the reach of its
+/// velocity and spin, its kinetic energy, its angular momentum and the
+/// drag rate. A start whose every number is finite can still overflow in
+/// these (`ω = 1e308 rad/s` makes `|ω|` and every rotation through it
+/// infinite), and a contact query would then see a pose of NaNs.
+fn representable(s: &BodyState, d: &BodyDynamics, duration: f64) -> bool {
+    let spin = d.inertia * s.w;
+    let energy = d.mass * s.v.norm_squared() + s.w.dot(&spin);
+    [
+        s.v.norm() * duration,
+        s.w.norm() * duration,
+        spin.norm(),
+        energy,
+        d.drag_k.unwrap_or(0.0) * duration,
+    ]
+    .iter()
+    .all(|v| v.is_finite())
+}
+
 /// Simulate the scene for its current control values. With
 /// `opts.tangent`, Jacobians with respect to the free controls of
 /// `controls` are propagated alongside.
@@ -271,7 +291,7 @@ pub fn simulate(
             v: b.velocity,
             w: b.angular_velocity,
         };
-        if !start.is_finite() {
+        if !start.is_finite() || !representable(&start, &dynamics[i], scene.duration) {
             return Err(SimError::NonFinite {
                 body: b.name.clone(),
                 t: 0.0,
