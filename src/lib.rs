@@ -9,6 +9,7 @@
 pub mod bench;
 pub mod controls;
 pub mod edit;
+pub mod files;
 pub mod geometry;
 pub mod math;
 pub mod report;

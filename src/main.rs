@@ -264,8 +264,8 @@ fn run(
     svg: Option<PathBuf>,
 ) -> Result<()> {
     let size = parse_size(size)?;
-    let text =
-        std::fs::read_to_string(keys).with_context(|| format!("reading {}", keys.display()))?;
+    let text = nudge::files::read_regular_text(keys, nudge::files::MAX_TEXT_BYTES)
+        .with_context(|| format!("reading the key script {}", keys.display()))?;
     let parsed = nudge::script::parse_keys(&text, &keys.display().to_string())
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;

@@ -49,3 +49,47 @@ fn a_density_of_1e_308_with_drag_near_the_parabola_is_an_error_not_a_panic() {
     );
     assert!(!err.contains("panicked"), "{err}");
 }
+
+/// `mkfifo f; nudge check f` used to block forever in `open`; a key script
+/// that is a FIFO did the same to `nudge run`. Both are refused unopened.
+#[test]
+fn a_fifo_is_refused_not_waited_on() {
+    let dir = std::env::temp_dir().join(format!("nudge-extreme-fifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("f.toml");
+    let _ = std::fs::remove_file(&fifo);
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let nudge = |args: &[&std::ffi::OsStr]| {
+        Command::new(env!("CARGO_BIN_EXE_nudge"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .expect("run nudge")
+    };
+    let out = nudge(&["check".as_ref(), fifo.as_os_str()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("is a FIFO (named pipe), not a regular file"),
+        "{err}"
+    );
+    let out = nudge(&[
+        "run".as_ref(),
+        "scenes/bounce.toml".as_ref(),
+        "--keys".as_ref(),
+        fifo.as_os_str(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("reading the key script") && err.contains("is a FIFO (named pipe)"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

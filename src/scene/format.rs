@@ -25,7 +25,7 @@ mod write;
 
 use super::model::Scene;
 use source::Source;
-use std::io::{Read, Write};
+use std::io::Write;
 use std::path::Path;
 use toml::de::DeTable;
 
@@ -67,12 +67,8 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     if size > MAX_FILE_BYTES {
         return Err(too_large(&origin, size));
     }
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .map_err(io)?
-        .take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
+    // Only a regular file is opened: a FIFO would block `open` forever.
+    let bytes = crate::files::read_regular(path, MAX_FILE_BYTES).map_err(io)?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
         return Err(too_large(&origin, bytes.len() as u64));
     }
