@@ -14,6 +14,7 @@ mod format;
 mod key;
 mod keymap;
 mod run;
+mod session;
 mod theme;
 mod widgets;
 
@@ -27,6 +28,7 @@ pub use format::{NOT_A_NUMBER, num as format_number};
 pub use key::{KEY_NAMES, Key, KeyCode, Mods};
 pub use keymap::{Action, Binding, Context, Dir, KEYMAP, Sense, help_rows, hints, lookup};
 pub use run::{Event, EventSource, TerminalEvents, draw, event_loop, run};
+pub use session::TERMINATING;
 pub use theme::Theme;
 pub use widgets::{MIN_HEIGHT, MIN_WIDTH, Screen, TooSmall, buffer_text};
 

@@ -36,50 +36,25 @@ pub trait EventSource {
     fn read(&mut self) -> io::Result<Event>;
 }
 
-/// Events from the real terminal, through crossterm. A termination signal
-/// (SIGTERM, SIGHUP when the SSH connection drops, SIGQUIT) ends the loop
-/// with an error, so the terminal is restored on the way out.
+/// Events from the real terminal, through crossterm. Signals and a
+/// terminal that went away are handled by the session's guards
+/// (`tui::session`), which restore the terminal and end the process.
 #[derive(Debug, Default)]
-pub struct TerminalEvents {
-    signalled: std::sync::Arc<std::sync::atomic::AtomicBool>,
-}
+pub struct TerminalEvents;
 
 impl TerminalEvents {
-    /// Events from the terminal, with the termination signals caught.
+    /// Events from the terminal.
+    ///
+    /// # Errors
+    /// None today; kept fallible for sources that open a device.
     pub fn new() -> io::Result<TerminalEvents> {
-        let signalled = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-        for signal in [
-            signal_hook::consts::SIGTERM,
-            signal_hook::consts::SIGHUP,
-            signal_hook::consts::SIGQUIT,
-        ] {
-            signal_hook::flag::register(signal, signalled.clone())?;
-        }
-        Ok(TerminalEvents { signalled })
+        Ok(TerminalEvents)
     }
 }
 
 impl EventSource for TerminalEvents {
     fn poll(&mut self, timeout: Duration) -> io::Result<bool> {
-        // Wait in short slices so a signal is noticed promptly.
-        let deadline = Instant::now() + timeout;
-        loop {
-            if self.signalled.load(std::sync::atomic::Ordering::Relaxed) {
-                return Err(io::Error::new(
-                    io::ErrorKind::Interrupted,
-                    "terminated by a signal",
-                ));
-            }
-            let slice = deadline
-                .saturating_duration_since(Instant::now())
-                .min(Duration::from_millis(50));
-            if ratatui::crossterm::event::poll(slice)? {
-                return Ok(true);
-            }
-            if Instant::now() >= deadline {
-                return Ok(false);
-            }
-        }
+        ratatui::crossterm::event::poll(timeout)
     }
 
     fn read(&mut self) -> io::Result<Event> {
@@ -103,6 +78,10 @@ const DRAIN_BUDGET: Duration = Duration::from_millis(30);
 /// restored on return and on panic.
 pub fn run<C: Core>(core: &mut C) -> io::Result<()> {
     let mut terminal = ratatui::try_init()?;
+    if let Err(e) = super::session::guard() {
+        super::session::restore_terminal();
+        return Err(e);
+    }
     let result = (|| {
         let size = terminal.size()?;
         let mut app = App::new(
@@ -112,7 +91,7 @@ pub fn run<C: Core>(core: &mut C) -> io::Result<()> {
         );
         event_loop(&mut terminal, core, &mut app, &mut TerminalEvents::new()?)
     })();
-    ratatui::restore();
+    super::session::restore_terminal();
     result
 }
 
