@@ -74,8 +74,11 @@ impl RunResult {
 
 /// Replay `keys` on a `size = (columns, rows)` screen: each key goes through
 /// the key map and the App exactly as typed in the terminal, its nudge (if
-/// any) is applied at once, and a frame is rendered. A quit key ends the
-/// run early.
+/// any) is applied at once, and a frame is rendered if the key changed
+/// anything (the UI state, the core through an edit, or its unsaved flag):
+/// a key that changes nothing would draw the same screen again, and a long
+/// script of them would spend its time redrawing. A quit key ends the run
+/// early.
 pub fn run_script(core: &mut impl Core, keys: &[Key], size: (u16, u16)) -> RunResult {
     let (w, h) = size;
     let mut app = App::new(&core.view(), Rect::new(0, 0, w, h), Theme::COLOR);
@@ -90,12 +93,20 @@ pub fn run_script(core: &mut impl Core, keys: &[Key], size: (u16, u16)) -> RunRe
         render_ms.push(ms);
     }
     for key in keys {
+        let before = (app.clone(), core.dirty());
         app.handle_key(core, *key);
         app.flush(core);
         app.tick(core, FRAME_SECONDS);
         let applied = app.take_apply_ms();
         if !applied.is_empty() {
             update_ms.push(applied.iter().sum());
+        }
+        let unchanged = applied.is_empty()
+            && app.edits() == before.0.edits()
+            && core.dirty() == before.1
+            && app == before.0;
+        if unchanged {
+            continue;
         }
         if let Ok(ms) = draw(&mut terminal, core, &mut app) {
             render_ms.push(ms);
@@ -166,6 +177,21 @@ mod tests {
         }
         assert_eq!(r.update_ms.len(), 1);
         assert_eq!(r.render_ms.len(), 3);
+    }
+
+    #[test]
+    fn keys_that_change_nothing_are_not_redrawn() {
+        // An unbound key says so once; pressed again it changes nothing and
+        // is not drawn, and the screen is what a redraw would show.
+        let (r, core) = run(&["<F12>"; 1000].join(" "));
+        assert!(core.log.is_empty() && r.edits == 0 && !r.quit);
+        assert_eq!(r.render_ms.len(), 2, "the first frame and the first <F12>");
+        let (once, _) = run("<F12>");
+        assert_eq!(r.screen, once.screen);
+        assert!(r.screen.contains("<F12> does nothing here"), "{}", r.screen);
+        // Keys that change the UI state are drawn, each once.
+        let (r, _) = run("<F12> <F12> Z Z 5 5");
+        assert_eq!(r.render_ms.len(), 6, "all but the second <F12>");
     }
 
     #[test]

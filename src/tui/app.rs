@@ -66,8 +66,8 @@ const PAN_STEP: f64 = 0.1;
 /// Largest adaptive step when switching to the adaptive integrator (s).
 const DEFAULT_MAX_STEP: f64 = 1e-2;
 
-/// The UI state.
-#[derive(Debug, Clone)]
+/// The UI state. Equal states over the same core draw equal screens.
+#[derive(Debug, Clone, PartialEq)]
 pub struct App {
     pub camera: Camera,
     /// Whether the camera follows the scene bounds (until panned or zoomed).
