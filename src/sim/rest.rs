@@ -61,7 +61,6 @@ use super::statics::{self, Support};
 use crate::geometry::{NearPoint, PartKind, near_points};
 use crate::math::{Mat3, Vec3};
 use crate::scene::Scene;
-use nalgebra::{Isometry3, Translation3};
 
 /// A body sliding on a static half-space after its bounces died out
 /// (rule 2 above). The motion is closed form from the segment start.
@@ -178,7 +177,7 @@ fn supports(
     s: &BodyState,
     band: f64,
 ) -> Vec<NearPoint> {
-    let pose = Isometry3::from_parts(Translation3::from(s.x), s.q);
+    let pose = s.pose();
     let o = &scene.obstacles[obstacle];
     near_points(
         &scene.bodies[body].geometry,

@@ -20,6 +20,11 @@ impl BodyState {
         self.x + self.q * p
     }
 
+    /// The body's pose: body frame to world.
+    pub fn pose(&self) -> nalgebra::Isometry3<f64> {
+        nalgebra::Isometry3::from_parts(nalgebra::Translation3::from(self.x), self.q)
+    }
+
     /// Velocity of a body-frame point.
     pub fn point_velocity(&self, p: &Vec3) -> Vec3 {
         self.v + self.w.cross(&(self.q * p))
