@@ -10,6 +10,7 @@
 //! the gyroscopic term is listed and the body is non-isotropic (or its
 //! inertia is a free control), and no event search runs without collisions.
 
+mod budget;
 mod dynamics;
 mod events;
 mod flight;
@@ -22,6 +23,7 @@ mod state;
 mod statics;
 mod trajectory;
 
+pub use budget::MAX_STORED_VALUES;
 pub use dynamics::BodyDynamics;
 pub use flight::{Translation, translation};
 pub use impulse::{FrictionMode, ImpulseCtx, ImpulseResult};

@@ -50,6 +50,57 @@ fn a_density_of_1e_308_with_drag_near_the_parabola_is_an_error_not_a_panic() {
     assert!(!err.contains("panicked"), "{err}");
 }
 
+/// A box spinning at 1.4e5 rad/s takes tens of thousands of adaptive
+/// steps per second, each holding its tangents: `check` of an egg this fast
+/// used to take 5.9 GB. The run stops at the stored motion's budget
+/// (256 MiB) with an error naming the body.
+#[test]
+fn a_motion_beyond_the_memory_budget_is_an_error_not_gigabytes() {
+    let (code, err) = check("box-spinning-1.4e5.toml");
+    assert_eq!(code, Some(1), "{err}");
+    let (head, tail) = err
+        .split_once(" s (")
+        .unwrap_or_else(|| panic!("no time in {err}"));
+    assert!(
+        head.starts_with(
+            "nudge: tests/fixtures/extreme/box-spinning-1.4e5.toml: the motion of \"box\" needs \
+             more than 256 MiB of steps by t = "
+        ),
+        "{err}"
+    );
+    assert_eq!(
+        tail.trim_end(),
+        "it spins or is stepped far faster than the scene can hold); make its speeds less \
+         extreme, free fewer controls, or loosen the accuracy (a larger step or tolerance)"
+    );
+}
+
+/// The budget is kept by the run itself: a motion that fits stores at most
+/// the budget, and the same scene spinning slower fits.
+#[test]
+fn the_stored_motion_stays_within_its_budget() {
+    use nudge::controls::Controls;
+    use nudge::sim::{MAX_STORED_VALUES, SimOptions, simulate};
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures/extreme/box-spinning-1.4e5.toml"),
+    )
+    .expect("fixture");
+    for (spin, fits) in [("140000.0", false), ("140.0", true)] {
+        let text = text.replace("140000.0", spin);
+        let scene = nudge::scene::load_str(&text, "box.toml").expect("loads");
+        let controls = Controls::new(&scene);
+        match simulate(&scene, &controls, &SimOptions::default()) {
+            Ok(traj) => {
+                assert!(fits, "{spin} rad/s fitted");
+                let stored = traj.stored_values();
+                assert!(stored > 0 && stored <= MAX_STORED_VALUES, "{stored}");
+            }
+            Err(e) => assert!(!fits, "{spin} rad/s: {e}"),
+        }
+    }
+}
+
 /// `mkfifo f; nudge check f` used to block forever in `open`; a key script
 /// that is a FIFO did the same to `nudge run`. Both are refused unopened.
 #[test]

@@ -92,8 +92,9 @@ pub enum Method {
     Adaptive { tol: f64, max_step: f64 },
 }
 
-/// Most fixed steps a motion may take (see [`Accuracy::problem`]).
-pub const MAX_RK4_STEPS: f64 = 1e6;
+/// Most steps a motion may take at the given step (RK4) or largest step
+/// (adaptive) (see [`Accuracy::problem`]).
+pub const MAX_STEPS: f64 = 1e6;
 
 /// Accuracy settings: the integrator and the collision root tolerance.
 /// Tighter settings are more accurate and cost more time (`nudge bench`).
@@ -124,7 +125,7 @@ impl Accuracy {
 
     /// What is wrong with these settings for a motion of `duration`
     /// seconds, and how to fix it; `None` if they are usable. A step so
-    /// small that the motion takes more than [`MAX_RK4_STEPS`] steps would
+    /// small that the motion takes more than [`MAX_STEPS`] steps would
     /// freeze the editor (and fill memory with steps); tolerances below
     /// 1e-14 are below what f64 can resolve.
     pub fn problem(&self, duration: f64) -> Option<(String, String)> {
@@ -137,15 +138,15 @@ impl Accuracy {
                     "give a step such as 1e-3",
                 );
             }
-            Method::Rk4 { step } if duration / step > MAX_RK4_STEPS => {
+            Method::Rk4 { step } if duration / step > MAX_STEPS => {
                 return problem(
                     format!(
-                        "an RK4 step of {step:.1e} s takes {:.1e} steps over the {duration} s motion (at most {MAX_RK4_STEPS:.0e})",
+                        "an RK4 step of {step:.1e} s takes {:.1e} steps over the {duration} s motion (at most {MAX_STEPS:.0e})",
                         duration / step
                     ),
                     &format!(
                         "use a step of at least {:.1e} s, or the adaptive integrator",
-                        duration / MAX_RK4_STEPS
+                        duration / MAX_STEPS
                     ),
                 );
             }
@@ -159,6 +160,17 @@ impl Accuracy {
                 return problem(
                     format!("the largest adaptive step {max_step} s is not > 0"),
                     "give a largest step such as 0.05",
+                );
+            }
+            Method::Adaptive { max_step, .. } if duration / max_step > MAX_STEPS => {
+                return problem(
+                    format!(
+                        "a largest adaptive step of {max_step:.1e} s allows more than {MAX_STEPS:.0e} steps over the {duration} s motion"
+                    ),
+                    &format!(
+                        "use a largest step of at least {:.1e} s: the tolerance, not the largest step, sets the accuracy",
+                        duration / MAX_STEPS
+                    ),
                 );
             }
             _ => {}

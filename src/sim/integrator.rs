@@ -261,6 +261,13 @@ pub struct Step {
     pub adaptive: bool,
 }
 
+impl Step {
+    /// How many numbers the step stores.
+    pub fn stored_len(&self) -> usize {
+        self.data.len()
+    }
+}
+
 /// Take one RK4 step.
 pub fn step_rk4(
     d: &BodyDynamics,

@@ -128,6 +128,12 @@ pub enum SimError {
         other: String,
         depth: f64,
     },
+    /// The stored motion outgrew its memory budget.
+    #[error(
+        "the motion of \"{body}\" needs more than {mib} MiB of steps by t = {t:.6} s (it spins or is stepped far faster than the scene can hold); make its speeds less extreme, free fewer controls, or loosen the accuracy (a larger step or tolerance)",
+        mib = super::MAX_STORED_VALUES * 8 >> 20
+    )]
+    MotionTooLarge { body: String, t: f64 },
     /// The adaptive integrator could not meet the tolerance.
     #[error("the adaptive step fell below 1e-12 s at t = {t:.6} s; loosen the tolerance")]
     StepTooSmall { t: f64 },
@@ -236,6 +242,8 @@ struct Sim<'a> {
     /// body over any later interval ending by `end`), cleared with its
     /// searches.
     swept: Vec<Option<(f64, (Vec3, Vec3))>>,
+    /// What the motion stores so far (see [`super::budget`]).
+    stored: super::budget::Stored,
 }
 
 /// The outcome of a pair's event search from `from`: its first impact
@@ -417,6 +425,7 @@ pub fn simulate(
             .collect(),
         searched: vec![None; pairs.len()],
         swept: vec![None; scene.bodies.len()],
+        stored: super::budget::Stored::new(scene.bodies.len()),
         pairs_of: (0..scene.bodies.len())
             .map(|i| {
                 (0..pairs.len())
@@ -660,10 +669,17 @@ impl Sim<'_> {
                 }
             }
             if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
+                self.stored.add(i, s.stored_len());
                 seg.steps.push(s);
             }
         }
-        Ok(())
+        match self.stored.over_budget() {
+            Some(i) => Err(SimError::MotionTooLarge {
+                body: self.scene.bodies[i].name.clone(),
+                t: t1,
+            }),
+            None => Ok(()),
+        }
     }
 
     /// Cut every integrated body's steps at `tc` and restart its cursor there.
@@ -684,7 +700,10 @@ impl Sim<'_> {
             let (q, z) = seg.steps[k - 1].at(d, tc, &mut evals);
             Counters::bump(&self.traj.counters.gyroscopic, evals);
             if let Some(seg) = self.traj.tracks[i].segments.last_mut() {
-                seg.steps.retain(|s| s.t0 < tc);
+                let keep = seg.steps.partition_point(|s| s.t0 < tc);
+                let cut: usize = seg.steps[keep..].iter().map(Step::stored_len).sum();
+                self.stored.remove(i, cut);
+                seg.steps.truncate(keep);
             }
             // Re-integrated from `tc` with other steps: its states move by
             // round-off, so its pairs are searched again.
@@ -879,11 +898,10 @@ impl Sim<'_> {
             Party::Body(j) => Some(self.traj.state(j, tc, StateSide::After)),
             Party::Obstacle(_) => None,
         };
-        let iso = |s: &BodyState| Isometry3::from_parts(Translation3::from(s.x), s.q);
         let (gb, pose_b, e_b, mu_b) = match pair.b {
             Party::Body(j) => (
                 &scene.bodies[j].geometry,
-                sb.as_ref().map(iso).unwrap_or_default(),
+                sb.as_ref().map(BodyState::pose).unwrap_or_default(),
                 scene.bodies[j].restitution,
                 scene.bodies[j].friction,
             ),
@@ -895,7 +913,7 @@ impl Sim<'_> {
             ),
         };
         let body_a = &scene.bodies[a];
-        let mut feature = FeaturePair::classify(&body_a.geometry, &iso(&sa), gb, &pose_b, contact);
+        let mut feature = FeaturePair::classify(&body_a.geometry, &sa.pose(), gb, &pose_b, contact);
         let index = self.traj.events.len();
         let control = scene.event_control(index);
         let restitution = control
@@ -1000,7 +1018,7 @@ impl Sim<'_> {
             let at_contact = |s: &BodyState, p: &Vec3| s.v + s.w.cross(&(p - s.x));
             let vb = sb.map_or(Vec3::zeros(), |s| at_contact(&s, &contact.point_b));
             if n.dot(&(at_contact(&sa, &contact.point_a) - vb)) < 0.0 {
-                let tangent = feature.on_tangent_plane(&iso(&sa), &pose_b, contact);
+                let tangent = feature.on_tangent_plane(&sa.pose(), &pose_b, contact);
                 ctx.feature = tangent.clone();
                 let r2 = ctx.apply();
                 if r2.approach < 0.0 {
@@ -1185,6 +1203,18 @@ impl Sim<'_> {
                     }
                 }
             }
+        }
+        // A contact on a surface beyond the finite numbers (a parabola of
+        // curvature 1e308) gives a NaN normal: a typed error, never an
+        // event of NaNs in the report.
+        let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
+        if !(finite(&res.normal) && finite(&res.point) && res.approach.is_finite())
+            || !(finite(&post_a.v) && finite(&post_a.w))
+        {
+            return Err(SimError::NonFinite {
+                body: body_a.name.clone(),
+                t: tc,
+            });
         }
         let event = Event {
             index,

@@ -166,6 +166,17 @@ pub struct Trajectory {
 }
 
 impl Trajectory {
+    /// How many numbers the motion's steps store (at most
+    /// [`super::MAX_STORED_VALUES`]).
+    pub fn stored_values(&self) -> usize {
+        self.tracks
+            .iter()
+            .flat_map(|t| &t.segments)
+            .flat_map(|s| &s.steps)
+            .map(super::integrator::Step::stored_len)
+            .sum()
+    }
+
     fn segment_index(&self, body: usize, t: f64, side: StateSide) -> usize {
         let segs = &self.tracks[body].segments;
         let mut i = segs.partition_point(|s| s.t0 <= t).saturating_sub(1);
