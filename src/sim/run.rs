@@ -1274,7 +1274,7 @@ impl Sim<'_> {
             return None;
         }
         let n = contact.normal;
-        let pose_a = Isometry3::from_parts(Translation3::from(sa.x), sa.q);
+        let pose_a = sa.pose();
         let cos = PATCH_ANGLE.cos();
         let flat_a = crate::geometry::flat_faces(part_a, &pose_a, &-n, cos);
         let flat_b = crate::geometry::flat_faces(part_b, pose_b, &n, cos);

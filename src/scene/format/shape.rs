@@ -6,6 +6,11 @@ use crate::geometry::Geometry;
 use crate::math::{Vec3, exp_so3, reparameterize};
 use nalgebra::{Isometry3, Translation3};
 
+/// Largest curvature of a parabola obstacle, 1/m (a hill whose top has a
+/// radius of curvature of 0.5 µm): the closest-point search on steeper
+/// ones squares numbers beyond the finite range.
+const MAX_CURVATURE: f64 = 1e6;
+
 /// Deepest allowed nesting of `compound` shapes (a top-level compound is 1).
 pub(super) const MAX_NESTING: usize = 8;
 
@@ -271,12 +276,19 @@ pub(super) fn build(
         }
         "parabola" => {
             t.allow_only(&["type", "curvature", "half_width"])?;
-            let k = t.required("curvature", Bound::Positive, "give the curvature in 1/m (the surface is z = -curvature x^2), e.g. curvature = 1.0")?;
+            let k = t.required("curvature", Bound::PositiveAtMost(MAX_CURVATURE), "give the curvature in 1/m (the surface is z = -curvature x^2), e.g. curvature = 1.0")?;
             let w = t.required(
                 "half_width",
                 Bound::Positive,
                 "give the drawn half width in m, e.g. half_width = 1.5",
             )?;
+            if !(k * w * w).is_finite() {
+                return Err(t.bad(
+                    "half_width",
+                    "makes the drawn hill deeper than the finite numbers",
+                    "give a drawn half width in m such as 1.5",
+                ));
+            }
             Geometry::parabola(k, w)
         }
         other => {
