@@ -595,14 +595,26 @@ impl ImpulseCtx {
         let mut out = Vec::with_capacity(OUTPUTS);
         out.push(geo.distance.clone());
         let couple = &n * tau;
+        // A frictionless impulse on a ball centred on its body's centre of
+        // mass acts along the line through that centre: no torque, exactly
+        // (the lever from round-off witness points would spin it by 1e-12
+        // to 3e-8 rad/s).
+        let (central_a, central_b) = self.central();
+        let torque = |r: &Vector3<T>, central: bool| {
+            if central {
+                Vector3::<T>::zeros()
+            } else {
+                r.cross(&p) + &couple
+            }
+        };
         let va = &a.v + &p * a.inv_mass.clone();
-        let wa = &a.w + &a.inv_inertia * (ra.cross(&p) + &couple);
+        let wa = &a.w + &a.inv_inertia * torque(&ra, central_a);
         out.extend(va.iter().cloned());
         out.extend(wa.iter().cloned());
         match &b {
             Some(m) => {
                 let vb2 = &m.v - &p * m.inv_mass.clone();
-                let wb2 = &m.w - &m.inv_inertia * (rb.cross(&p) + &couple);
+                let wb2 = &m.w - &m.inv_inertia * torque(&rb, central_b);
                 out.extend(vb2.iter().cloned());
                 out.extend(wb2.iter().cloned());
             }
@@ -718,21 +730,40 @@ impl ImpulseCtx {
     /// surface, so its rotation directions are left out: carrying them
     /// would only cost dual-number width.
     fn geometry_directions(&self) -> Vec<usize> {
-        let turns = |side: &SideFeature| {
-            !self.feature.patch.is_empty()
-                || !matches!(side, SideFeature::Point { p, radius, .. } if *radius > 0.0 && *p == Vec3::zeros())
-        };
+        let (centred_a, centred_b) = self.centred();
         let mut dirs: Vec<usize> = (0..3).collect();
-        if turns(&self.feature.a) {
+        if !centred_a {
             dirs.extend(3..6);
         }
         if self.b.is_some() {
             dirs.extend(6..9);
-            if turns(&self.feature.b) {
+            if !centred_b {
                 dirs.extend(9..12);
             }
         }
         dirs
+    }
+
+    /// Whether each party touches with a ball centred on its centre of
+    /// mass (no contact patch): its contact normal passes through that
+    /// centre whatever the configuration, so its turning does not move the
+    /// contact, and a normal impulse along the contact normal (not tilted
+    /// by a normal control) exerts no torque on it.
+    fn centred(&self) -> (bool, bool) {
+        let centred = |side: &SideFeature| {
+            self.feature.patch.is_empty()
+                && matches!(side, SideFeature::Point { p, radius, .. } if *radius > 0.0 && *p == Vec3::zeros())
+        };
+        (centred(&self.feature.a), centred(&self.feature.b))
+    }
+
+    /// Whether the impulse on each party passes through its centre of mass
+    /// exactly: a frictionless impulse along the untilted normal of a
+    /// centred ball (see [`ImpulseCtx::centred`]).
+    fn central(&self) -> (bool, bool) {
+        let (a, b) = self.centred();
+        let along_normal = self.friction == 0.0 && self.normal_dev.is_none();
+        (a && along_normal, b && along_normal)
     }
 
     /// Contact geometry with its derivatives along the configuration
@@ -1060,14 +1091,21 @@ impl ImpulseCtx {
         // Frictionless: p = j n with j = (sep − v_n) / (n·K n), and
         // `n·K n = 1/m_a + (r_a × n)·I_a⁻¹(r_a × n) (+ b's terms)`; each
         // party turns by `I⁻¹(r × n) j`.
-        let lever = |party: &JetParty<N>| {
-            let c = party.r.cross(n);
+        // A centred ball's lever `r × n` is zero in value and derivative
+        // (see [`ImpulseCtx::central`]).
+        let (central_a, central_b) = self.central();
+        let lever = |party: &JetParty<N>, central: bool| {
+            let c = if central {
+                Vj::constant(Vec3::zeros())
+            } else {
+                party.r.cross(n)
+            };
             let ic = party.inv_inertia_mul(&c);
             (party.inv_mass.add(&c.dot(&ic)), ic)
         };
-        let (mut nkn, ic_a) = lever(a);
+        let (mut nkn, ic_a) = lever(a, central_a);
         let ic_b = b.as_ref().map(|b| {
-            let (k, ic) = lever(b);
+            let (k, ic) = lever(b, central_b);
             nkn = nkn.add(&k);
             ic
         });
