@@ -146,6 +146,10 @@ pub enum EditError {
     Invalid(String),
     #[error("could not save: {0}")]
     Save(String),
+    /// A new constraint's target is so far from the motion that the
+    /// distance to it is not a finite number.
+    #[error("that target is too far away to measure: give values within about 1e150 of the body")]
+    TargetOutOfRange,
 }
 
 /// Where a scene was saved.

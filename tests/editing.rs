@@ -670,3 +670,40 @@ fn fixed_event_controls_keep_their_values_through_a_drag() {
     drag(&mut e).unwrap();
     assert_ne!(event_values(&e), v1);
 }
+
+/// `:nail position 1e308 1e308 1e308` and `:spin 1e308` used to be
+/// accepted with a residual of `null` (`r=—` on the status line). A target
+/// whose distance overflows is refused and nothing changes.
+#[test]
+fn a_target_too_far_to_measure_is_refused_and_nothing_changes() {
+    use nudge::edit::EditError;
+    let mut e = Editor::new(ball_scene(), None).expect("editor");
+    e.apply(Edit::SelectTime(0.5)).expect("select a time");
+    let constraints = e.constraints().len();
+    let values = e.view().controls;
+    let far = Vec3::repeat(1e308);
+    let refused = [
+        Edit::Nail {
+            quantities: vec![StateQuantity::Position],
+            exact: vec![(StateQuantity::Position, far)],
+        },
+        Edit::Expression(Expression::AngularSpeed { value: 1e308 }),
+    ];
+    for edit in refused {
+        assert_eq!(
+            e.apply(edit.clone()),
+            Err(EditError::TargetOutOfRange),
+            "{edit:?}"
+        );
+        assert_eq!(e.constraints().len(), constraints);
+        assert_eq!(e.view().controls, values);
+        assert!(e.view().status.residual.is_finite());
+    }
+    // A far but measurable target is taken (and the edit may then block).
+    e.apply(Edit::Nail {
+        quantities: vec![StateQuantity::Position],
+        exact: vec![(StateQuantity::Position, Vec3::repeat(1e100))],
+    })
+    .expect("a target 1e100 m away is measurable");
+    assert_eq!(e.constraints().len(), constraints + 1);
+}

@@ -484,6 +484,10 @@ impl Editor {
         let old_values = self.values();
         let mut changed = true;
         let mut diagnostics: Vec<String> = Vec::new();
+        let adds_constraint = matches!(
+            edit,
+            Edit::Nail { .. } | Edit::Float { .. } | Edit::Expression(_) | Edit::Vertical { .. }
+        );
         match edit {
             Edit::SelectBody(i) => {
                 if i >= self.scene.bodies.len() {
@@ -793,6 +797,12 @@ impl Editor {
                 self.last_delta = self.deltas(&old_values);
                 changed = false;
             }
+        }
+        if adds_constraint && !self.residual().is_finite() {
+            // `:nail position 1e308 1e308 1e308` or `:spin 1e308`: a target
+            // so far away that its distance overflows could never be shown
+            // or reached. The caller restores the state.
+            return Err(EditError::TargetOutOfRange);
         }
         if changed {
             self.commit(before, old_values);
