@@ -707,3 +707,29 @@ fn a_target_too_far_to_measure_is_refused_and_nothing_changes() {
     .expect("a target 1e100 m away is measurable");
     assert_eq!(e.constraints().len(), constraints + 1);
 }
+
+/// A nudge whose motion outgrows the stored-motion budget (a box driven to
+/// 1e5 rad/s) is refused with the budget's message and changes nothing: it
+/// used to stall the editor for 40 s while filling 7 GB.
+#[test]
+fn a_nudge_beyond_the_memory_budget_is_refused_and_nothing_changes() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/extreme/box-spinning-1.4e5.toml"
+    ))
+    .expect("fixture")
+    .replace("140000.0", "140.0");
+    let scene = nudge::scene::load_str(&text, "box.toml").expect("loads");
+    let mut e = Editor::new(scene, None).expect("140 rad/s fits");
+    let values = e.view().controls;
+    let refused = e.apply(Edit::Nudge {
+        quantity: StateQuantity::AngularVelocity,
+        delta: Vec3::new(0.0, 1e5, 0.0),
+    });
+    match refused {
+        Err(err) => assert!(err.to_string().contains("MiB budget"), "{err}"),
+        Ok(o) => panic!("accepted: {o:?}"),
+    }
+    assert_eq!(e.view().controls, values);
+    assert!(e.trajectory().stored_values() <= nudge::sim::MAX_STORED_VALUES);
+}

@@ -130,7 +130,7 @@ pub enum SimError {
     },
     /// The stored motion outgrew its memory budget.
     #[error(
-        "the motion of \"{body}\" needs more than {mib} MiB of steps by t = {t:.6} s (it spins or is stepped far faster than the scene can hold); make its speeds less extreme, free fewer controls, or loosen the accuracy (a larger step or tolerance)",
+        "the motion of \"{body}\" outgrew its {mib} MiB budget by t = {t:.6} s: slow its spin, free fewer controls or loosen the accuracy",
         mib = super::MAX_STORED_VALUES * 8 >> 20
     )]
     MotionTooLarge { body: String, t: f64 },
