@@ -131,7 +131,7 @@ pub enum SimError {
     /// The stored motion outgrew its memory budget.
     #[error(
         "the motion of \"{body}\" outgrew its {mib} MiB budget by t = {t:.6} s: slow its spin, free fewer controls or loosen the accuracy",
-        mib = super::MAX_STORED_VALUES * 8 >> 20
+        mib = (super::MAX_STORED_VALUES * 8) >> 20
     )]
     MotionTooLarge { body: String, t: f64 },
     /// The adaptive integrator could not meet the tolerance.
@@ -1208,9 +1208,12 @@ impl Sim<'_> {
         // curvature 1e308) gives a NaN normal: a typed error, never an
         // event of NaNs in the report.
         let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
-        if !(finite(&res.normal) && finite(&res.point) && res.approach.is_finite())
-            || !(finite(&post_a.v) && finite(&post_a.w))
-        {
+        let all_finite = finite(&res.normal)
+            && finite(&res.point)
+            && res.approach.is_finite()
+            && finite(&post_a.v)
+            && finite(&post_a.w);
+        if !all_finite {
             return Err(SimError::NonFinite {
                 body: body_a.name.clone(),
                 t: tc,
