@@ -10,14 +10,7 @@ use crate::scene::{Accuracy, Block, StateQuantity};
 use crate::view::View;
 use std::path::{Path, PathBuf};
 
-/// Which side of an impulse a floating constraint refers to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Side {
-    /// Just before the impulse.
-    Pre,
-    /// Just after the impulse.
-    Post,
-}
+pub use crate::scene::Side;
 
 /// What a constraint about the world vertical holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -8,6 +8,6 @@ mod model;
 
 pub use format::{DEFAULT_SCENE, SceneError, load, load_str, save, saved_text, to_toml};
 pub use model::{
-    Accuracy, Block, Body, ConstraintSpec, Effect, Effects, EventControl, Method, Obstacle, Scales,
-    Scene, StateQuantity,
+    Accuracy, Block, Body, ConstraintKind, ConstraintSpec, Effect, Effects, EventControl,
+    MAX_EVENTS, MAX_STEPS, Method, Obstacle, Scales, Scene, Side, StateQuantity,
 };

@@ -300,7 +300,7 @@ fn edited_scenes_round_trip_too() {
         fixed: true,
     });
     scene.constraints.push(nudge::scene::ConstraintSpec {
-        kind: "nail".into(),
+        kind: nudge::scene::ConstraintKind::Nail,
         body: "egg1".into(),
         other: None,
         time: Some(2.0 / 3.0),

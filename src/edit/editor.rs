@@ -6,7 +6,7 @@ use super::{Core, Edit, EditError, Expression, Outcome, Saved, Side, Vertical};
 use crate::controls::Controls;
 use crate::math::{Vec3, exp_so3, log_so3};
 use crate::report::{self, ConstraintRow};
-use crate::scene::{self, ConstraintSpec, EventControl, Scene, StateQuantity};
+use crate::scene::{self, ConstraintKind, ConstraintSpec, EventControl, Scene, StateQuantity};
 use crate::sim::{Party, SimOptions, StateSide, Trajectory, simulate};
 use crate::solve::{self, Anchor, Constraint, Diagnostic, Kind, UpdateOptions};
 use crate::view::{self, View};
@@ -828,10 +828,9 @@ impl Editor {
                     .unwrap_or(f64::INFINITY);
                 let at = match c.anchor {
                     Anchor::Time(t) => format!("t={t:.3}"),
-                    Anchor::Event { collision, side } => format!(
-                        "hit#{collision} {}",
-                        if side == Side::Pre { "pre" } else { "post" }
-                    ),
+                    Anchor::Event { collision, side } => {
+                        format!("hit#{collision} {}", side.word())
+                    }
                 };
                 ConstraintRow {
                     kind: c.label().to_string(),
@@ -871,14 +870,10 @@ fn to_spec(scene: &Scene, c: &Constraint) -> ConstraintSpec {
     };
     let (time, collision, side) = match c.anchor {
         Anchor::Time(t) => (Some(t), None, None),
-        Anchor::Event { collision, side } => (
-            None,
-            Some(collision),
-            Some(if side == Side::Pre { "pre" } else { "post" }.to_string()),
-        ),
+        Anchor::Event { collision, side } => (None, Some(collision), Some(side)),
     };
     let mut spec = ConstraintSpec {
-        kind: c.label().to_string(),
+        kind: c.kind(),
         body: name(c.body),
         other: None,
         time,
@@ -927,19 +922,19 @@ fn to_spec(scene: &Scene, c: &Constraint) -> ConstraintSpec {
     spec
 }
 
+/// The constraint a saved one describes. The scene loader has checked
+/// every field against the kind, so this fails only for a spec built in
+/// code that names an unknown body or gives too few targets.
 fn from_spec(scene: &Scene, s: &ConstraintSpec) -> Option<Constraint> {
     let body = scene.body_index(&s.body)?;
-    let anchor = match (s.time, s.collision) {
-        (Some(t), _) => Anchor::Time(t),
-        (None, Some(k)) => Anchor::Event {
+    let anchor = match (s.kind, s.time, s.collision) {
+        (ConstraintKind::Floating, _, None) | (ConstraintKind::Nail, None, _) => return None,
+        (ConstraintKind::Floating, _, Some(k)) | (_, None, Some(k)) => Anchor::Event {
             collision: k,
-            side: if s.side.as_deref() == Some("pre") {
-                Side::Pre
-            } else {
-                Side::Post
-            },
+            side: s.side.unwrap_or(Side::Post),
         },
-        _ => return None,
+        (_, Some(t), _) => Anchor::Time(t),
+        (_, None, None) => return None,
     };
     let other = || s.other.as_deref().and_then(|o| scene.body_index(o));
     let v3 = |i: usize| {
@@ -949,9 +944,9 @@ fn from_spec(scene: &Scene, s: &ConstraintSpec) -> Option<Constraint> {
             *s.target.get(i + 2)?,
         ))
     };
-    let kind = match s.kind.as_str() {
-        "nail" | "floating" => {
-            if s.target.len() != 3 * s.quantities.len() {
+    let kind = match s.kind {
+        ConstraintKind::Nail | ConstraintKind::Floating => {
+            if s.quantities.is_empty() || s.target.len() != 3 * s.quantities.len() {
                 return None;
             }
             Kind::State {
@@ -959,24 +954,23 @@ fn from_spec(scene: &Scene, s: &ConstraintSpec) -> Option<Constraint> {
                 target: s.target.clone(),
             }
         }
-        "equal_speed" => Kind::EqualSpeed { other: other()? },
-        "angular_speed" => Kind::AngularSpeed {
+        ConstraintKind::EqualSpeed => Kind::EqualSpeed { other: other()? },
+        ConstraintKind::AngularSpeed => Kind::AngularSpeed {
             value: *s.target.first()?,
         },
-        "upright" => Kind::Upright { axis: v3(0)? },
-        "steady" => Kind::Steady { axis: v3(0)? },
-        "point_on_plane" => Kind::PointOnPlane {
+        ConstraintKind::Upright => Kind::Upright { axis: v3(0)? },
+        ConstraintKind::Steady => Kind::Steady { axis: v3(0)? },
+        ConstraintKind::PointOnPlane => Kind::PointOnPlane {
             point: v3(0)?,
             normal: v3(3)?,
             offset: *s.target.get(6)?,
         },
-        "distance" => Kind::Distance {
+        ConstraintKind::Distance => Kind::Distance {
             other: other()?,
             point: v3(0)?,
             other_point: v3(3)?,
             value: *s.target.get(6)?,
         },
-        _ => return None,
     };
     Some(Constraint {
         body,

@@ -15,6 +15,7 @@
 //! layout; a scene built in code is printed afresh ([`to_toml`]). What is
 //! saved is decided once, for both.
 mod body;
+mod constraint;
 mod in_place;
 mod inertia;
 mod read;

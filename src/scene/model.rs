@@ -92,6 +92,10 @@ pub enum Method {
     Adaptive { tol: f64, max_step: f64 },
 }
 
+/// Most collision events a motion may have: the simulator stops with an
+/// error past it, and an event index in a scene file must be below it.
+pub const MAX_EVENTS: usize = 100_000;
+
 /// Most steps a motion may take at the given step (RK4) or largest step
 /// (adaptive) (see [`Accuracy::problem`]).
 pub const MAX_STEPS: f64 = 1e6;
@@ -420,13 +424,106 @@ impl StateQuantity {
     }
 }
 
+/// What a saved constraint holds; parsed once when the scene loads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ConstraintKind {
+    /// State quantities at a fixed time.
+    Nail,
+    /// State quantities just before or after the body's k-th collision.
+    Floating,
+    /// The body's speed equals another body's.
+    EqualSpeed,
+    /// The body's angular speed equals a value.
+    AngularSpeed,
+    /// The body's up axis points straight up.
+    Upright,
+    /// The body spins only about the vertical.
+    Steady,
+    /// A body point lies on a plane.
+    PointOnPlane,
+    /// Two body points are a given distance apart.
+    Distance,
+}
+
+impl ConstraintKind {
+    pub const ALL: [ConstraintKind; 8] = [
+        ConstraintKind::Nail,
+        ConstraintKind::Floating,
+        ConstraintKind::EqualSpeed,
+        ConstraintKind::AngularSpeed,
+        ConstraintKind::Upright,
+        ConstraintKind::Steady,
+        ConstraintKind::PointOnPlane,
+        ConstraintKind::Distance,
+    ];
+
+    /// The word the scene file uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            ConstraintKind::Nail => "nail",
+            ConstraintKind::Floating => "floating",
+            ConstraintKind::EqualSpeed => "equal_speed",
+            ConstraintKind::AngularSpeed => "angular_speed",
+            ConstraintKind::Upright => "upright",
+            ConstraintKind::Steady => "steady",
+            ConstraintKind::PointOnPlane => "point_on_plane",
+            ConstraintKind::Distance => "distance",
+        }
+    }
+
+    /// How many target numbers the kind takes, and what they are.
+    pub fn target_len(self, quantities: usize) -> (usize, &'static str) {
+        match self {
+            ConstraintKind::Nail | ConstraintKind::Floating => {
+                (3 * quantities, "[x, y, z] per held quantity")
+            }
+            ConstraintKind::EqualSpeed => (0, "none"),
+            ConstraintKind::AngularSpeed => (1, "the angular speed in rad/s"),
+            ConstraintKind::Upright | ConstraintKind::Steady => (3, "the body axis [x, y, z]"),
+            ConstraintKind::PointOnPlane => (
+                7,
+                "the body point [x, y, z], the plane normal [x, y, z] and its offset",
+            ),
+            ConstraintKind::Distance => (
+                7,
+                "the body point [x, y, z], the other body's point [x, y, z] and the distance",
+            ),
+        }
+    }
+
+    /// Whether the kind names a second body (`other`).
+    pub fn has_other(self) -> bool {
+        matches!(self, ConstraintKind::EqualSpeed | ConstraintKind::Distance)
+    }
+}
+
+/// Which side of an impulse a floating constraint refers to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    /// Just before the impulse.
+    Pre,
+    /// Just after the impulse.
+    Post,
+}
+
+impl Side {
+    /// The word the scene file and the command line use.
+    pub fn word(self) -> &'static str {
+        match self {
+            Side::Pre => "pre",
+            Side::Post => "post",
+        }
+    }
+}
+
 /// A saved constraint (the editing layer turns these into residual rows).
-/// Stored as plain data so scenes round-trip through TOML.
+/// Stored as plain data so scenes round-trip through TOML; every field is
+/// checked against its kind when the scene loads.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ConstraintSpec {
-    /// `nail`, `floating`, or an expression kind (`equal_speed`,
-    /// `angular_speed`, `point_on_plane`, `distance`).
-    pub kind: String,
+    pub kind: ConstraintKind,
     /// The body (by name).
     pub body: String,
     /// Second body for two-body expressions.
@@ -438,9 +535,10 @@ pub struct ConstraintSpec {
     /// k-th collision of the body (0-based) for floating constraints.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collision: Option<usize>,
-    /// `pre` or `post` impulse for floating constraints.
+    /// Before or after the impulse, for floating constraints (after when
+    /// not given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub side: Option<String>,
+    pub side: Option<Side>,
     /// The constrained quantities of a nail/floating constraint.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub quantities: Vec<StateQuantity>,

@@ -61,7 +61,7 @@ impl Default for SimOptions {
         SimOptions {
             tangent: true,
             graze_tol: 1e-3,
-            max_events: 100_000,
+            max_events: crate::scene::MAX_EVENTS,
             window: 0.05,
             until: None,
         }

@@ -1,5 +1,5 @@
-use crate::edit::Side;
 use crate::math::{Vec3, log_so3, right_jacobian_inv, skew};
+use crate::scene::Side;
 use crate::scene::StateQuantity;
 use crate::sim::{BodyState, StateSide, TangentError, Trajectory};
 use nalgebra::{DMatrix, DVector, Matrix3};
@@ -92,6 +92,22 @@ impl Constraint {
     }
 
     /// A short kind label for panels and reports.
+    /// The kind a saved file records (a drag saves as nothing; see
+    /// [`Constraint::label`]).
+    pub fn kind(&self) -> crate::scene::ConstraintKind {
+        use crate::scene::ConstraintKind as K;
+        match (&self.kind, self.anchor) {
+            (Kind::State { .. }, Anchor::Time(_)) => K::Nail,
+            (Kind::State { .. }, Anchor::Event { .. }) => K::Floating,
+            (Kind::EqualSpeed { .. }, _) => K::EqualSpeed,
+            (Kind::AngularSpeed { .. }, _) => K::AngularSpeed,
+            (Kind::PointOnPlane { .. }, _) => K::PointOnPlane,
+            (Kind::Upright { .. }, _) => K::Upright,
+            (Kind::Steady { .. }, _) => K::Steady,
+            (Kind::Distance { .. }, _) => K::Distance,
+        }
+    }
+
     pub fn label(&self) -> &'static str {
         match (&self.kind, self.anchor, self.drag) {
             (_, _, true) => "drag",

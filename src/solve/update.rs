@@ -599,8 +599,8 @@ pub fn update(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::edit::Side;
     use crate::math::Vec3;
+    use crate::scene::Side;
     use crate::scene::StateQuantity;
     use crate::solve::{Anchor, Kind};
     use crate::testkit;

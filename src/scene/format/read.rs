@@ -3,12 +3,13 @@
 //! that need all of them (unique names, nothing overlapping at t = 0).
 use super::SceneError;
 use super::body::{Spans, body, obstacle};
+use super::constraint::constraints;
 use super::shape::pose;
-use super::source::{Bound, Source, Table, Value, as_table, numbers, plain, suggestion};
+use super::source::{Bound, Source, Table, Value, as_table, numbers, suggestion};
 use crate::geometry::contact;
 use crate::math::Vec3;
 use crate::scene::model::{
-    Accuracy, ConstraintSpec, Effect, Effects, EventControl, Method, Scales, Scene,
+    Accuracy, Effect, Effects, EventControl, MAX_EVENTS, Method, Scales, Scene,
 };
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -49,18 +50,6 @@ pub(super) const DEFAULT_MAX_STEP: f64 = 0.01;
 pub(super) const DEFAULT_ROOT_TOL: f64 = 1e-12;
 /// Bodies penetrating deeper than this at t = 0 are rejected, m.
 pub(super) const OVERLAP_TOLERANCE: f64 = 1e-9;
-
-/// The constraint fields (those of [`ConstraintSpec`]), in writing order.
-pub(super) const CONSTRAINT_FIELDS: [&str; 8] = [
-    "kind",
-    "body",
-    "other",
-    "time",
-    "collision",
-    "side",
-    "quantities",
-    "target",
-];
 
 /// Read and validate a parsed document.
 pub(super) fn scene(src: &Source<'_>, doc: &Spanned<DeTable<'_>>) -> Result<Scene, SceneError> {
@@ -140,7 +129,7 @@ pub(super) fn scene(src: &Source<'_>, doc: &Spanned<DeTable<'_>>) -> Result<Scen
     let obstacle_names: Vec<&str> = obstacles.iter().map(|o| o.name.as_str()).collect();
     let pairs = collisions(&t, &body_names, &obstacle_names)?;
     let event_controls = event_controls(&t)?;
-    let constraints = constraints(&t, &body_names)?;
+    let constraints = constraints(&t, &body_names, duration)?;
 
     let scene = Scene {
         name,
@@ -163,7 +152,7 @@ pub(super) fn scene(src: &Source<'_>, doc: &Spanned<DeTable<'_>>) -> Result<Scen
 }
 
 /// The elements of an array of tables (`[[key]]`), or none when absent.
-fn tables<'a, 'i>(t: &Table<'a, 'i>, key: &str) -> Result<&'a [Value<'i>], SceneError> {
+pub(super) fn tables<'a, 'i>(t: &Table<'a, 'i>, key: &str) -> Result<&'a [Value<'i>], SceneError> {
     let hint = format!("write each {key} as a [[{key}]] table (double brackets)");
     let Some(v) = t.get(key) else { return Ok(&[]) };
     match v.get_ref() {
@@ -462,7 +451,16 @@ fn event_controls(top: &Table<'_, '_>) -> Result<Vec<EventControl>, SceneError> 
         let event = t
             .index("event", hint)?
             .ok_or_else(|| t.missing("event", hint))?;
-        let event = usize::try_from(event).map_err(|_| t.bad("event", "is too large", hint))?;
+        let event = usize::try_from(event)
+            .ok()
+            .filter(|&e| e < MAX_EVENTS)
+            .ok_or_else(|| {
+                t.bad(
+                    "event",
+                    &format!("is beyond the {MAX_EVENTS} events a motion may have"),
+                    hint,
+                )
+            })?;
         if let Some(first) = out.iter().position(|c| c.event == event) {
             return Err(t.bad(
                 "event",
@@ -496,82 +494,6 @@ fn event_controls(top: &Table<'_, '_>) -> Result<Vec<EventControl>, SceneError> 
         owners.push(owner);
     }
     out.sort_by_key(|c| c.event);
-    Ok(out)
-}
-
-fn constraints(top: &Table<'_, '_>, bodies: &[&str]) -> Result<Vec<ConstraintSpec>, SceneError> {
-    let mut out = Vec::new();
-    let listing = if bodies.is_empty() {
-        "the scene has no bodies".to_string()
-    } else {
-        format!("the bodies are {}", bodies.join(", "))
-    };
-    for (k, v) in tables(top, "constraint")?.iter().enumerate() {
-        let owner = format!("constraint #{}", k + 1);
-        let map = as_table(v).ok_or_else(|| {
-            top.bad(
-                "constraint",
-                "must be an array of tables",
-                "write each as a [[constraint]] table",
-            )
-        })?;
-        let t = Table {
-            src: top.src,
-            map,
-            span: v.span(),
-            owner: &owner,
-            path: "",
-        };
-        t.allow_only(&CONSTRAINT_FIELDS)?;
-        t.number("time", "give the time in s")?;
-        if let Some(list) = t.array("target", "give the target values as an array of numbers")? {
-            for (i, x) in list.iter().enumerate() {
-                super::source::number(
-                    t.src,
-                    x,
-                    &t.field(&format!("target[{i}]")),
-                    "give the target values as an array of finite numbers",
-                )?;
-            }
-        }
-        let spec: ConstraintSpec =
-            plain(v.get_ref())
-                .try_into()
-                .map_err(|e: toml::de::Error| {
-                    t.src.error_bare(
-                        &t.span,
-                        &format!("{owner} cannot be read: {}", e.message()),
-                        "see docs/scene-format.md for the constraint fields",
-                    )
-                })?;
-        for key in ["body", "other"] {
-            let name = if key == "body" {
-                Some(spec.body.as_str())
-            } else {
-                spec.other.as_deref()
-            };
-            if let Some(name) = name
-                && !bodies.contains(&name)
-            {
-                return Err(t.bad(
-                    key,
-                    "names an unknown body",
-                    &format!("{}{listing}", suggestion(name, bodies)),
-                ));
-            }
-        }
-        if let Some(side) = spec.side.as_deref()
-            && side != "pre"
-            && side != "post"
-        {
-            return Err(t.bad(
-                "side",
-                "must be \"pre\" or \"post\"",
-                "write side = \"pre\" (just before the impulse) or side = \"post\" (just after)",
-            ));
-        }
-        out.push(spec);
-    }
     Ok(out)
 }
 

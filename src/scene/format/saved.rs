@@ -15,8 +15,8 @@
 //! - the inertia is saved only when the file gave it or when it differs
 //!   from what the shape and mass imply (an edited mass), so a saved scene
 //!   keeps `inertia_given` as it was whenever it can. `mass` is always saved.
+use super::constraint::CONSTRAINT_FIELDS;
 use super::inertia::{implied, unit_props};
-use super::read::CONSTRAINT_FIELDS;
 use super::shape::{Owner, build};
 use super::source::Source;
 use super::write::inline;

@@ -66,7 +66,12 @@ impl Source<'_> {
         let mut collapsed = String::with_capacity(out.len());
         let mut in_space = false;
         for c in out.chars() {
-            if c.is_whitespace() {
+            if hidden(c) && !c.is_whitespace() {
+                // Never echo a character that hides or reorders text (or
+                // drives the terminal): show its code point.
+                collapsed.push_str(&format!("<U+{:04X}>", u32::from(c)));
+                in_space = false;
+            } else if c.is_whitespace() {
                 if !in_space {
                     collapsed.push(' ');
                 }
@@ -99,6 +104,26 @@ impl Source<'_> {
     pub fn error_at(&self, span: &Range<usize>, what: &str, fix: &str) -> SceneError {
         self.error(span, what, &self.quote(span), fix)
     }
+}
+
+/// Whether `c` is a control character or one that is invisible or
+/// reorders text (zero-width spaces and joiners, bidirectional controls,
+/// the byte-order mark, the soft hyphen): it would hide what a name says
+/// or, sent to a terminal, act on it.
+pub(super) fn hidden(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            u32::from(c),
+            0x00AD
+                | 0x061C
+                | 0x180E
+                | 0x200B..=0x200F
+                | 0x202A..=0x202E
+                | 0x2060..=0x2064
+                | 0x2066..=0x206F
+                | 0xFEFF
+                | 0xFFF9..=0xFFFB
+        )
 }
 
 /// A line without its trailing `# comment` (ignoring `#` inside strings).
@@ -363,7 +388,23 @@ impl<'a, 'i> Table<'a, 'i> {
             return Ok(None);
         };
         match v.get_ref() {
-            DeValue::String(s) => Ok(Some(s.as_ref())),
+            DeValue::String(s) => {
+                // Line breaks and tabs belong in notes; nowhere else do
+                // control or invisible characters.
+                let allowed = |c: char| key == "notes" && matches!(c, '\n' | '\t');
+                if let Some(c) = s.chars().find(|&c| hidden(c) && !allowed(c)) {
+                    return Err(self.src.error_at(
+                        &v.span(),
+                        &format!(
+                            "{} contains the invisible or control character U+{:04X}",
+                            self.field(key),
+                            u32::from(c)
+                        ),
+                        "write it with visible characters only",
+                    ));
+                }
+                Ok(Some(s.as_ref()))
+            }
             _ => Err(self.src.error_at(
                 &v.span(),
                 &format!("{} must be a string", self.field(key)),
