@@ -5,6 +5,7 @@ mod editor;
 
 pub use editor::{Editor, MAX_SETTLE_UPDATES};
 
+pub use crate::files::WriteMode;
 use crate::math::Vec3;
 use crate::scene::{Accuracy, Block, StateQuantity};
 use crate::view::View;
@@ -139,6 +140,9 @@ pub enum EditError {
     Invalid(String),
     #[error("could not save: {0}")]
     Save(String),
+    /// The file to save to is read-only.
+    #[error("{} is read-only: :w! writes it anyway", .0.display())]
+    ReadOnly(PathBuf),
     /// A new constraint's target is so far from the motion that the
     /// distance to it is not a finite number.
     #[error("that target is too far away to measure: give values within about 1e150 of the body")]
@@ -161,8 +165,9 @@ pub trait Core {
     fn apply(&mut self, edit: Edit) -> Result<Outcome, EditError>;
     /// A snapshot of everything the screen shows.
     fn view(&self) -> View;
-    /// Save the edited scene (to `path`, or where it was loaded from).
-    fn save(&mut self, path: Option<&Path>) -> Result<Saved, EditError>;
+    /// Save the edited scene (to `path`, or where it was loaded from); a
+    /// read-only file only with [`WriteMode::Force`].
+    fn save(&mut self, path: Option<&Path>, mode: WriteMode) -> Result<Saved, EditError>;
     /// Whether there are unsaved edits.
     fn dirty(&self) -> bool;
     /// The JSON report (`nudge check --json` shape plus constraints).

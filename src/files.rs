@@ -1,6 +1,12 @@
-//! Reading a file the user named: only a regular file (after following
+//! Files the user named. Reading: only a regular file (after following
 //! symlinks) is opened, so a FIFO, a directory or a device never blocks
-//! the program in `open` or feeds it an endless stream.
+//! the program in `open` or feeds it an endless stream. Writing: see
+//! [`write_text`], which keeps the file what it was (link, permissions,
+//! hard links, line endings).
+
+mod write;
+
+pub use write::{WriteError, WriteMode, write_text};
 
 use std::io::{self, Read};
 use std::path::Path;

@@ -353,7 +353,7 @@ fn save_then_load_reproduces_the_trajectory_bit_for_bit() {
         exact: vec![],
     })
     .unwrap();
-    let saved = e.save(None).unwrap();
+    let saved = e.save(None, nudge::edit::WriteMode::Normal).unwrap();
     assert_eq!(saved.layout_lost, None, "the text is kept");
     let saved = saved.path;
     assert!(!e.dirty());
@@ -809,7 +809,10 @@ target = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
     let e = Editor::new(scene.clone(), None).expect("editor");
     assert_eq!(e.constraints().len(), 8, "every constraint is held");
     let saved = e.scene_to_save();
-    assert_eq!(saved.constraints, scene.constraints, "and saved back as read");
+    assert_eq!(
+        saved.constraints, scene.constraints,
+        "and saved back as read"
+    );
     let again = nudge::scene::load_str(&nudge::scene::to_toml(&saved), "again.toml")
         .expect("the saved scene loads");
     assert_eq!(again.constraints, scene.constraints);

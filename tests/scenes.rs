@@ -2,6 +2,7 @@
 //! bit for bit, saving keeps the user's comments and layout, and every
 //! invalid scene under `tests/invalid_scenes/` fails with exactly the
 //! message on its first line (`# expect: <message>`).
+use nudge::files::WriteMode;
 use nudge::geometry::{Geometry, PartKind};
 use nudge::scene::{
     DEFAULT_SCENE, Method, Scene, SceneError, load, load_str, save, saved_text, to_toml,
@@ -438,7 +439,7 @@ fn editor_edits_keep_every_comment_and_untouched_line_of_every_scene() {
 
         let file = dir.join(path.file_name().expect("file name"));
         let note = e
-            .save(Some(&file))
+            .save(Some(&file), WriteMode::Normal)
             .unwrap_or_else(|err| panic!("{what}: {err}"));
         assert_eq!(note.layout_lost, None, "{what}: the text is kept");
         let saved = std::fs::read_to_string(&file).expect("saved");
@@ -472,7 +473,7 @@ fn editor_edits_keep_every_comment_and_untouched_line_of_every_scene() {
         let back = load(&file).unwrap_or_else(|err| panic!("{what}: {err}\n{saved}"));
         assert_same(&e.scene_to_save(), &back, &what);
 
-        e.save(Some(&file))
+        e.save(Some(&file), WriteMode::Normal)
             .unwrap_or_else(|err| panic!("{what}: {err}"));
         let twice = std::fs::read_to_string(&file).expect("saved");
         assert_eq!(twice, saved, "{what}: saving again changed the file");
@@ -545,8 +546,8 @@ fn save_is_atomic_and_loads_back() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     let path = dir.join("mug.toml");
     let scene = load(Path::new("scenes/mug.toml")).unwrap_or_else(|e| panic!("{e}"));
-    save(&scene, &path).expect("saved");
-    save(&scene, &path).expect("saved over");
+    save(&scene, &path, WriteMode::Normal).expect("saved");
+    save(&scene, &path, WriteMode::Normal).expect("saved over");
     let names: Vec<_> = std::fs::read_dir(&dir)
         .expect("dir")
         .map(|e| e.expect("entry").file_name())
@@ -582,7 +583,9 @@ fn a_layout_not_edited_in_place_is_saved_as_new_text_and_the_user_is_told() {
         delta: nudge::math::Vec3::new(0.5, 0.0, 0.0),
     })
     .unwrap_or_else(|err| panic!("{err}"));
-    let saved = e.save(None).unwrap_or_else(|err| panic!("{err}"));
+    let saved = e
+        .save(None, WriteMode::Normal)
+        .unwrap_or_else(|err| panic!("{err}"));
     let why = saved
         .layout_lost
         .expect("the inline bodies are not edited in place");
@@ -660,4 +663,57 @@ fn truncated_scenes_fail_cleanly() {
             let _ = load_str(&text[..cut], "cut.toml");
         }
     }
+}
+
+/// Saving keeps the file what it was: a scene written with a byte-order
+/// mark and CRLF line endings keeps both through an edit and `:w`, and a
+/// read-only scene is refused (the message names `:w!`) until forced.
+#[test]
+fn saving_keeps_the_files_line_endings_bom_and_read_only_flag() {
+    use nudge::edit::{Core, Edit, EditError, Editor};
+    use std::os::unix::fs::PermissionsExt;
+    let dir = std::env::temp_dir().join(format!("nudge-save-kinds-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let plain = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
+    let crlf = format!("\u{feff}{}", plain.replace('\n', "\r\n"));
+    let file = dir.join("bounce.toml");
+    std::fs::write(&file, &crlf).expect("write");
+    let scene = load(&file).expect("a BOM and CRLF load");
+    let mut e = Editor::new(scene, Some(file.clone())).expect("editor");
+    e.apply(Edit::SelectTime(0.5)).expect("time");
+    e.apply(Edit::Nail {
+        quantities: vec![nudge::scene::StateQuantity::Position],
+        exact: vec![],
+    })
+    .expect("nail");
+    e.save(None, WriteMode::Normal).expect("saved");
+    let saved = std::fs::read(&file).expect("read back");
+    let text = String::from_utf8(saved).expect("UTF-8");
+    assert!(text.starts_with('\u{feff}'), "the BOM is kept");
+    assert!(
+        !text.replace("\r\n", "").contains('\n'),
+        "every line ends in CRLF"
+    );
+    assert!(text.contains("[[constraint]]\r\nkind = \"nail\""), "{text}");
+    let back = load(&file).expect("loads back");
+    assert_eq!(back.constraints.len(), 1);
+
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o444)).expect("chmod");
+    e.apply(Edit::RemoveConstraint(0)).expect("delete");
+    let refused = e.save(None, WriteMode::Normal);
+    assert_eq!(refused, Err(EditError::ReadOnly(file.clone())));
+    assert_eq!(
+        refused.err().map(|e| e.to_string()),
+        Some(format!(
+            "{} is read-only: :w! writes it anyway",
+            file.display()
+        ))
+    );
+    assert_eq!(load(&file).expect("unchanged").constraints.len(), 1);
+    e.save(None, WriteMode::Force).expect("forced");
+    assert_eq!(load(&file).expect("written").constraints.len(), 0);
+    let mode = std::fs::metadata(&file).expect("stat").permissions().mode() & 0o777;
+    assert_eq!(mode, 0o444, "still read-only");
+    assert!(!e.dirty());
 }

@@ -235,7 +235,11 @@ impl Core for FakeCore {
         v
     }
 
-    fn save(&mut self, path: Option<&FsPath>) -> Result<Saved, EditError> {
+    fn save(
+        &mut self,
+        path: Option<&FsPath>,
+        _: nudge::edit::WriteMode,
+    ) -> Result<Saved, EditError> {
         self.dirty = false;
         Ok(Saved {
             path: path.map_or_else(|| PathBuf::from("toss.toml"), FsPath::to_path_buf),

@@ -4,6 +4,7 @@
 
 use super::{Core, Edit, EditError, Expression, Outcome, Saved, Side, Vertical};
 use crate::controls::Controls;
+use crate::files::{WriteError, WriteMode};
 use crate::math::{Vec3, exp_so3, log_so3};
 use crate::report::{self, ConstraintRow};
 use crate::scene::{self, ConstraintKind, ConstraintSpec, EventControl, Scene, StateQuantity};
@@ -1075,7 +1076,7 @@ impl Core for Editor {
         }
     }
 
-    fn save(&mut self, path: Option<&Path>) -> Result<Saved, EditError> {
+    fn save(&mut self, path: Option<&Path>, mode: WriteMode) -> Result<Saved, EditError> {
         let target = path
             .map(Path::to_path_buf)
             .or_else(|| self.path.clone())
@@ -1085,8 +1086,11 @@ impl Core for Editor {
                     self.scene.name
                 ))
             })?;
-        let layout_lost = scene::save(&self.scene_to_save(), &target)
-            .map_err(|e| EditError::Save(format!("{}: {e}", target.display())))?;
+        let layout_lost =
+            scene::save(&self.scene_to_save(), &target, mode).map_err(|e| match e {
+                WriteError::ReadOnly { path } => EditError::ReadOnly(path),
+                other => EditError::Save(other.to_string()),
+            })?;
         self.path = Some(target.clone());
         self.saved_revision = self.revision;
         Ok(Saved {

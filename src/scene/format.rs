@@ -25,8 +25,8 @@ mod source;
 mod write;
 
 use super::model::Scene;
+use crate::files::{WriteError, WriteMode};
 use source::Source;
-use std::io::Write;
 use std::path::Path;
 use toml::de::DeTable;
 
@@ -165,28 +165,18 @@ fn saved_text_noting(scene: &Scene, path: &Path) -> (String, Option<String>) {
     }
 }
 
-/// Write a scene atomically ([`saved_text`]): a temporary file beside
-/// `path`, flushed to disk, then renamed over it. Returns why the text the
-/// scene was loaded from could not be kept, when it was written as new
-/// text instead (its comments and layout are then gone; the numbers are
-/// all there).
+/// Write a scene ([`saved_text`]) with [`crate::files::write_text`]:
+/// atomically, through symlinks, keeping the file's permissions, hard
+/// links, byte-order mark and line endings; a read-only file only with
+/// [`WriteMode::Force`]. Returns why the text the scene was loaded from
+/// could not be kept, when it was written as new text instead (its
+/// comments and layout are then gone; the numbers are all there).
 ///
 /// # Errors
-/// Any I/O error creating, writing or renaming the file; the temporary file
-/// is removed on failure and `path` is left as it was.
-pub fn save(scene: &Scene, path: &Path) -> std::io::Result<Option<String>> {
+/// As [`crate::files::write_text`]; `path` is then left as it was.
+pub fn save(scene: &Scene, path: &Path, mode: WriteMode) -> Result<Option<String>, WriteError> {
     let (text, unkept) = saved_text_noting(scene, path);
-    let tmp = path.with_extension("toml.tmp");
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(text.as_bytes())?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map(|()| unkept)
+    crate::files::write_text(path, &text, mode).map(|()| unkept)
 }
 
 #[cfg(test)]

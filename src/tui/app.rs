@@ -16,6 +16,7 @@ use super::keymap::{self, Action, Context, Sense};
 use super::theme::Theme;
 use super::widgets;
 use crate::edit::{Core, Edit, Expression, Outcome, Side, Vertical};
+use crate::files::WriteMode;
 use crate::math::Vec3;
 use crate::scene::{Accuracy, Block, Method, StateQuantity};
 use crate::view::{ControlRow, View};
@@ -440,7 +441,7 @@ impl App {
             Action::ConfirmQuit => self.quit = true,
             Action::SaveQuit => {
                 self.input = Input::Normal;
-                self.write(core, None, true);
+                self.write(core, None, false, true);
             }
         }
     }
@@ -705,9 +706,20 @@ impl App {
         }
     }
 
-    fn write(&mut self, core: &mut impl Core, path: Option<&std::path::Path>, then_quit: bool) {
+    fn write(
+        &mut self,
+        core: &mut impl Core,
+        path: Option<&std::path::Path>,
+        force: bool,
+        then_quit: bool,
+    ) {
         let start = Instant::now();
-        let result = core.save(path);
+        let mode = if force {
+            WriteMode::Force
+        } else {
+            WriteMode::Normal
+        };
+        let result = core.save(path, mode);
         self.apply_ms.push(start.elapsed().as_secs_f64() * 1e3);
         match result {
             Ok(saved) => {
@@ -898,8 +910,8 @@ impl App {
             Command::Settle(ms) => self.settle(core, ms),
             Command::Undo => self.repeat(core, Edit::Undo, 1),
             Command::Redo => self.repeat(core, Edit::Redo, 1),
-            Command::Write(path) => self.write(core, path.as_deref(), false),
-            Command::WriteQuit(path) => self.write(core, path.as_deref(), true),
+            Command::Write { path, force } => self.write(core, path.as_deref(), force, false),
+            Command::WriteQuit { path, force } => self.write(core, path.as_deref(), force, true),
             Command::Quit => {
                 if core.dirty() {
                     self.say(Level::Error, "unsaved edits: :w saves, :q! discards them");

@@ -79,10 +79,16 @@ pub enum Command {
     Settle(u64),
     Undo,
     Redo,
-    /// `:w [path]`.
-    Write(Option<PathBuf>),
-    /// `:wq [path]`.
-    WriteQuit(Option<PathBuf>),
+    /// `:w [path]`, or `:w! [path]` (`force`: a read-only file too).
+    Write {
+        path: Option<PathBuf>,
+        force: bool,
+    },
+    /// `:wq [path]`, or `:wq! [path]`.
+    WriteQuit {
+        path: Option<PathBuf>,
+        force: bool,
+    },
     /// `:q`.
     Quit,
     /// `:q!`.
@@ -422,8 +428,10 @@ pub fn parse(line: &str) -> Result<Command, CommandError> {
         }
         "undo" | "u" => Command::Undo,
         "redo" => Command::Redo,
-        "w" | "write" => Command::Write(path),
-        "wq" | "x" => Command::WriteQuit(path),
+        "w" | "write" => Command::Write { path, force: false },
+        "w!" | "write!" => Command::Write { path, force: true },
+        "wq" | "x" => Command::WriteQuit { path, force: false },
+        "wq!" | "x!" => Command::WriteQuit { path, force: true },
         "q" | "quit" => {
             w.no_more(1)?;
             Command::Quit
@@ -623,14 +631,40 @@ mod tests {
         assert_eq!(parse("event 3"), Ok(Command::Event(3)));
         assert_eq!(parse("settle"), Ok(Command::Settle(SETTLE_MS)));
         assert_eq!(parse("settle 200"), Ok(Command::Settle(200)));
-        assert_eq!(parse("w"), Ok(Command::Write(None)));
+        assert_eq!(
+            parse("w"),
+            Ok(Command::Write {
+                path: None,
+                force: false
+            })
+        );
+        assert_eq!(
+            parse("w! ro.toml"),
+            Ok(Command::Write {
+                path: Some("ro.toml".into()),
+                force: true
+            })
+        );
+        assert_eq!(
+            parse("wq!"),
+            Ok(Command::WriteQuit {
+                path: None,
+                force: true
+            })
+        );
         assert_eq!(
             parse("w my scene.toml"),
-            Ok(Command::Write(Some("my scene.toml".into())))
+            Ok(Command::Write {
+                path: Some("my scene.toml".into()),
+                force: false
+            })
         );
         assert_eq!(
             parse("wq out.toml"),
-            Ok(Command::WriteQuit(Some("out.toml".into())))
+            Ok(Command::WriteQuit {
+                path: Some("out.toml".into()),
+                force: false
+            })
         );
         assert_eq!(parse("q"), Ok(Command::Quit));
         assert_eq!(parse("q!"), Ok(Command::ForceQuit));

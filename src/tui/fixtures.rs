@@ -182,7 +182,11 @@ impl Core for FakeCore {
         }
     }
 
-    fn save(&mut self, path: Option<&FsPath>) -> Result<Saved, EditError> {
+    fn save(
+        &mut self,
+        path: Option<&FsPath>,
+        _mode: crate::files::WriteMode,
+    ) -> Result<Saved, EditError> {
         self.saved.push(path.map(FsPath::to_path_buf));
         self.dirty = false;
         Ok(Saved {
