@@ -1,12 +1,13 @@
 //! nudge: interactive manipulation of rigid-body simulations in the terminal
 //! (Popović, Seitz, Erdmann, Popović, Witkin, SIGGRAPH 2000).
 //!
-//! Data flows one way (DESIGN §9):
+//! Data flows one way (docs/design.md):
 //! scene file → [`scene`] → [`sim`] (trajectory and tangents) → [`solve`]
 //! (constraints, least-norm update) ← [`edit`] ← keys; rendering ([`view`],
 //! `tui`) reads snapshots and never runs the simulator.
 
 pub mod bench;
+pub mod check;
 pub mod controls;
 pub mod edit;
 pub mod files;

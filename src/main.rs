@@ -5,8 +5,7 @@ use clap::{Parser, Subcommand};
 use nudge::controls::Controls;
 use nudge::edit::{Core, Editor};
 use nudge::scene::{self, Scene};
-use nudge::sim::{SimOptions, StateSide, simulate};
-use nudge::tangent::{FiniteDifference, Scheme};
+use nudge::sim::{SimOptions, simulate};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -132,112 +131,37 @@ fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
     let traj = simulate(&scene, &controls, &SimOptions::default())
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let elapsed = start.elapsed();
-    if json {
-        let v = nudge::report::summary(&scene, &controls, &traj, &[], &[]);
-        writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
+    let checked = if jacobian && controls.m() > 0 {
+        Some(
+            nudge::check::jacobian_check(&scene, &controls, &traj)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
+        )
     } else {
-        write!(out, "{}", nudge::report::text(&scene, &controls, &traj))?;
-        writeln!(
-            out,
-            "\nsimulated with Jacobians ({} controls) in {:.3} ms",
-            controls.m(),
-            elapsed.as_secs_f64() * 1e3
-        )?;
-    }
-    if jacobian {
-        jacobian_check(out, &scene, &controls, &traj)?;
-    }
-    Ok(())
-}
-
-/// Largest relative disagreement between the tangent and central-difference
-/// Jacobians, per control block, at the final time and every event.
-fn jacobian_check(
-    out: &mut impl Write,
-    scene: &Scene,
-    controls: &Controls,
-    traj: &nudge::sim::Trajectory,
-) -> Result<()> {
-    if controls.m() == 0 {
-        writeln!(
-            out,
-            "\njacobian: no free controls (free a block in the scene's `free = [...]`)"
-        )?;
+        None
+    };
+    if json {
+        let mut v = nudge::report::summary(&scene, &controls, &traj, &[], &[]);
+        if let (Some(c), Some(obj)) = (&checked, v.as_object_mut()) {
+            obj.insert("jacobian_check".into(), c.json());
+        }
+        writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
         return Ok(());
     }
-    let fd = FiniteDifference::new(scene, controls, Scheme::Central)
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut blocks: Vec<(String, Vec<usize>)> = Vec::new();
-    for (col, &i) in controls.free.iter().enumerate() {
-        let name = &controls.entries[i].name;
-        let block = name
-            .rsplit_once('.')
-            .map(|(a, b)| {
-                if b.len() == 1 && controls.entries[i].name.matches('.').count() >= 2 {
-                    a.to_string()
-                } else {
-                    name.clone()
-                }
-            })
-            .unwrap_or_else(|| name.clone());
-        match blocks.iter_mut().find(|b| b.0 == block) {
-            Some(b) => b.1.push(col),
-            None => blocks.push((block, vec![col])),
-        }
-    }
+    write!(out, "{}", nudge::report::text(&scene, &controls, &traj))?;
     writeln!(
         out,
-        "\njacobian: tangent vs central differences (largest relative disagreement)"
+        "\nsimulated with Jacobians ({} controls) in {:.3} ms",
+        controls.m(),
+        elapsed.as_secs_f64() * 1e3
     )?;
-    writeln!(out, "  {:<34} {:>12} {:>12}", "block", "final", "events")?;
-    for (name, cols) in &blocks {
-        let comparable = cols.iter().all(|&c| fd.comparable[c]);
-        if !comparable {
-            writeln!(out, "  {name:<34} {:>12} {:>12}", "n/c", "n/c")?;
-            continue;
-        }
-        let mask: Vec<bool> = (0..controls.m()).map(|c| cols.contains(&c)).collect();
-        // At the final time: every body's state.
-        let mut worst = [0.0f64; 2];
-        for b in 0..scene.bodies.len() {
-            if let Ok(jt) = traj.jacobian(b, scene.duration, StateSide::After) {
-                let jf = fd.at(b, scene.duration, StateSide::After);
-                worst[0] = worst[0].max(nudge::tangent::max_relative_error(&jt, &jf, &mask, 1e-3));
-            }
-        }
-        // At every event, just before and after the impulse: the state at
-        // each run's own event time (the event moves with the controls, so
-        // a fixed-time quotient there would straddle the jump), against
-        // J + F dt_c/du.
-        for (k, e) in traj.events.iter().enumerate() {
-            for side in [StateSide::Before, StateSide::After] {
-                let (Ok(jt), Some(jf)) = (
-                    traj.jacobian_at_event(e.a, e, side),
-                    fd.at_event(k, e.a, side),
-                ) else {
-                    continue;
-                };
-                worst[1] = worst[1].max(nudge::tangent::max_relative_error(&jt, &jf, &mask, 1e-3));
-            }
-        }
-        writeln!(
+    match &checked {
+        Some(c) => write!(out, "{}", c.text())?,
+        None if jacobian => writeln!(
             out,
-            "  {name:<34} {:>12.2e} {:>12}",
-            worst[0],
-            if traj.events.is_empty() {
-                "—".to_string()
-            } else {
-                format!("{:.2e}", worst[1])
-            }
-        )?;
+            "\njacobian: no free controls (free a block in the scene's `free = [...]`)"
+        )?,
+        None => {}
     }
-    if let Some(e) = traj.tangent_error {
-        writeln!(out, "  note: {e}")?;
-    }
-    writeln!(
-        out,
-        "  (n/c: u ± h changes the collision sequence, so the difference quotient is not comparable)"
-    )?;
     Ok(())
 }
 

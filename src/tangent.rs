@@ -42,14 +42,32 @@ impl Scheme {
 /// Perturbed simulations for a finite-difference Jacobian.
 pub struct FiniteDifference {
     pub scheme: Scheme,
-    /// Step per column.
+    /// Step per column (negative for a one-sided difference taken below
+    /// the control's value).
     pub steps: Vec<f64>,
     /// The nominal run (no tangents).
     pub nominal: Trajectory,
-    /// `(plus, minus)` runs per column; `minus` is the nominal run for forward differences.
+    /// `(plus, minus)` runs per column; `minus` is the nominal run for
+    /// forward and one-sided differences.
     runs: Vec<(Trajectory, Option<Trajectory>)>,
     /// Whether both perturbed runs keep the nominal signature, per column.
     pub comparable: Vec<bool>,
+    /// How each column's quotient was taken.
+    pub columns: Vec<ColumnKind>,
+}
+
+/// How a column's difference quotient was taken.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColumnKind {
+    /// As the scheme says.
+    AsScheme,
+    /// The simulator refused one perturbed run (a body pushed into what it
+    /// rests on): a one-sided difference from the nominal run with the
+    /// other, first order. The reason is the refused run's error.
+    OneSided(String),
+    /// Every perturbed run was refused: no quotient (the column is not
+    /// comparable). The reason is the first run's error.
+    Refused(String),
 }
 
 /// The signature of the events up to time `t` (inclusive).
@@ -84,7 +102,12 @@ fn perturbed(
 }
 
 impl FiniteDifference {
-    /// Run the `2m` (central) or `m` (forward) perturbed simulations.
+    /// Run the `2m` (central) or `m` (forward) perturbed simulations. A
+    /// perturbed run the simulator refuses makes its column one-sided or
+    /// refused ([`ColumnKind`]), never the whole check fail.
+    ///
+    /// # Errors
+    /// When the nominal run fails.
     pub fn new(
         scene: &Scene,
         controls: &Controls,
@@ -113,18 +136,33 @@ impl FiniteDifference {
         let mut runs = Vec::new();
         let mut steps = Vec::new();
         let mut comparable = Vec::new();
+        let mut columns = Vec::new();
         for col in 0..controls.m() {
             let h = step.unwrap_or_else(|| scheme.step(u[col]));
-            let plus = perturbed(scene, controls, &u, col, h)?;
+            let plus = perturbed(scene, controls, &u, col, h);
             let minus = match scheme {
-                Scheme::Central => Some(perturbed(scene, controls, &u, col, -h)?),
+                Scheme::Central => Some(perturbed(scene, controls, &u, col, -h)),
                 Scheme::Forward => None,
             };
+            let (run, kind) = match (plus, minus) {
+                (Ok(p), Some(Ok(m))) => ((h, p, Some(m)), ColumnKind::AsScheme),
+                (Ok(p), None) => ((h, p, None), ColumnKind::AsScheme),
+                (Ok(p), Some(Err(e))) => ((h, p, None), ColumnKind::OneSided(e.to_string())),
+                (Err(e), Some(Ok(m))) => ((-h, m, None), ColumnKind::OneSided(e.to_string())),
+                (Err(e), _) => (
+                    (h, nominal.clone(), None),
+                    ColumnKind::Refused(e.to_string()),
+                ),
+            };
+            let (h, plus, minus) = run;
             comparable.push(
-                plus.signature() == sig && minus.as_ref().is_none_or(|m| m.signature() == sig),
+                !matches!(kind, ColumnKind::Refused(_))
+                    && plus.signature() == sig
+                    && minus.as_ref().is_none_or(|m| m.signature() == sig),
             );
             steps.push(h);
             runs.push((plus, minus));
+            columns.push(kind);
         }
         Ok(FiniteDifference {
             scheme,
@@ -132,6 +170,7 @@ impl FiniteDifference {
             nominal,
             runs,
             comparable,
+            columns,
         })
     }
 
@@ -144,20 +183,21 @@ impl FiniteDifference {
         self.runs
             .iter()
             .zip(&self.steps)
-            .map(|((p, m), h)| {
-                let window = t + 1e3 * h;
+            .zip(&self.columns)
+            .map(|(((p, m), h), kind)| {
+                let window = t + 1e3 * h.abs();
                 let same = |tr: &Trajectory| {
                     prefix(tr, t) == reference
                         && prefix(tr, window) == prefix(&self.nominal, window)
                 };
-                same(p) && m.as_ref().is_none_or(same)
+                !matches!(kind, ColumnKind::Refused(_)) && same(p) && m.as_ref().is_none_or(same)
             })
             .collect()
     }
 
     /// The difference-quotient Jacobian of `body`'s state at time `t`.
     pub fn at(&self, body: usize, t: f64, side: StateSide) -> DMatrix<f64> {
-        self.columns(|tr| tr.state(body, t, side))
+        self.quotients(|tr| tr.state(body, t, side))
     }
 
     /// The difference-quotient Jacobian of `body`'s state just before or after
@@ -173,7 +213,7 @@ impl FiniteDifference {
             return None;
         }
         pick(&self.nominal)?;
-        Some(self.columns(|tr| pick(tr).unwrap_or_else(|| tr.state(body, 0.0, side))))
+        Some(self.quotients(|tr| pick(tr).unwrap_or_else(|| tr.state(body, 0.0, side))))
     }
 
     /// The difference quotient of event `k`'s time.
@@ -190,7 +230,7 @@ impl FiniteDifference {
         Some(out)
     }
 
-    fn columns(&self, state: impl Fn(&Trajectory) -> BodyState) -> DMatrix<f64> {
+    fn quotients(&self, state: impl Fn(&Trajectory) -> BodyState) -> DMatrix<f64> {
         let mut j = DMatrix::zeros(12, self.runs.len());
         let s0 = state(&self.nominal);
         for (c, (p, m)) in self.runs.iter().enumerate() {
