@@ -10,6 +10,7 @@ pub mod bench;
 pub mod check;
 pub mod controls;
 pub mod edit;
+pub mod estimate;
 pub mod files;
 pub mod geometry;
 pub mod math;

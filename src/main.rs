@@ -139,10 +139,20 @@ fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
     } else {
         None
     };
+    let estimate = nudge::estimate::error_estimate(&scene, &controls, &traj);
     if json {
-        let mut v = nudge::report::summary(&scene, &controls, &traj, &[], &[]);
-        if let (Some(c), Some(obj)) = (&checked, v.as_object_mut()) {
-            obj.insert("jacobian_check".into(), c.json());
+        let diagnostics: Vec<String> = match &estimate {
+            Ok(e) => e.diagnostic().into_iter().collect(),
+            Err(e) => vec![format!("no integration error estimate: {e}")],
+        };
+        let mut v = nudge::report::summary(&scene, &controls, &traj, &[], &diagnostics);
+        if let Some(obj) = v.as_object_mut() {
+            if let Ok(e) = &estimate {
+                obj.insert("integration_error".into(), e.json());
+            }
+            if let Some(c) = &checked {
+                obj.insert("jacobian_check".into(), c.json());
+            }
         }
         writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
         return Ok(());
@@ -154,6 +164,19 @@ fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
         controls.m(),
         elapsed.as_secs_f64() * 1e3
     )?;
+    match &estimate {
+        Ok(e) => {
+            writeln!(
+                out,
+                "integration error (estimated by step halving): {}",
+                e.text()
+            )?;
+            if let Some(d) = e.diagnostic() {
+                writeln!(out, "warning: {d}")?;
+            }
+        }
+        Err(e) => writeln!(out, "integration error: not estimated ({e})")?,
+    }
     match &checked {
         Some(c) => write!(out, "{}", c.text())?,
         None if jacobian => writeln!(

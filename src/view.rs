@@ -68,6 +68,10 @@ pub struct Status {
     pub accuracy: String,
     /// The latest diagnostic or error, if any.
     pub message: Option<String>,
+    /// The motion's estimated integration error (position m, orientation
+    /// rad, velocity m/s, angular velocity rad/s; see `estimate`), if it
+    /// could be estimated.
+    pub integration_error: Option<[f64; 4]>,
 }
 
 /// Everything the screen shows, as plain data.

@@ -130,3 +130,39 @@ fn figures_are_per_state_quantity() {
     assert!(position < 1e-6, "{}", rows[at]);
     assert_eq!(cells[3], "0", "no orientation dependence");
 }
+
+/// An asymmetric box spinning at ~350 rad/s for 10 s at the default RK4
+/// step is off by ~3e-4 rad and ~0.07 rad/s; nothing said so. `check` now
+/// prints the estimate and a warning above the threshold, and the JSON
+/// report carries both.
+#[test]
+fn a_fast_spin_at_the_default_step_is_reported_as_inaccurate() {
+    let file = "tests/fixtures/check/fast-spin.toml";
+    let (code, out) = check(&[], file);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(
+        out.contains("integration error (estimated by step halving): position 0.0e0 m, orientation 3.4e-4 rad, velocity 0.0e0 m/s, angular velocity 7.5e-2 rad/s"),
+        "{out}"
+    );
+    assert!(
+        out.contains("warning: estimated integration error 7.5e-2 rad/s in angular velocity (2e-4 relative, above 1e-4): use a smaller step or method = \"adaptive\" with a tighter tol"),
+        "{out}"
+    );
+    let (_, out) = check(&["--json"], file);
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    assert_eq!(v["integration_error"]["exceeds"], true);
+    assert_eq!(v["integration_error"]["method"], "step halving");
+    assert!(
+        v["diagnostics"][0]
+            .as_str()
+            .unwrap_or("")
+            .starts_with("estimated integration error")
+    );
+    // A gentle throw is well within it.
+    let (_, out) = check(&[], "scenes/bounce.toml");
+    assert!(
+        out.contains("integration error (estimated by step halving)"),
+        "{out}"
+    );
+    assert!(!out.contains("warning:"), "{out}");
+}

@@ -145,6 +145,7 @@ impl FakeCore {
                 blocks: 2,
                 accuracy: "rk4 h=1e-3".into(),
                 message: None,
+                integration_error: None,
             },
             dirty: false,
             accuracy: Default::default(),

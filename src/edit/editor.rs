@@ -150,7 +150,24 @@ impl Editor {
         };
         e.refresh_geometry();
         e.status.residual = e.residual();
+        e.status.message = e.estimate_error();
         Ok(e)
+    }
+
+    /// Estimate the motion's integration error (one more simulation,
+    /// without tangents, at twice the accuracy: see `estimate`); the
+    /// diagnostic when it exceeds the threshold.
+    fn estimate_error(&mut self) -> Option<String> {
+        match crate::estimate::error_estimate(&self.scene, &self.controls, &self.traj) {
+            Ok(e) => {
+                self.status.integration_error = Some(e.per_quantity);
+                e.diagnostic()
+            }
+            Err(_) => {
+                self.status.integration_error = None;
+                None
+            }
+        }
     }
 
     /// Let `settle` stop at its wall-time budget (the default, for
@@ -485,6 +502,7 @@ impl Editor {
         let old_values = self.values();
         let mut changed = true;
         let mut diagnostics: Vec<String> = Vec::new();
+        let (revision0, accuracy0) = (self.revision, self.scene.accuracy);
         let adds_constraint = matches!(
             edit,
             Edit::Nail { .. } | Edit::Float { .. } | Edit::Expression(_) | Edit::Vertical { .. }
@@ -809,6 +827,10 @@ impl Editor {
             self.commit(before, old_values);
             self.refresh_geometry();
         }
+        if self.revision != revision0 || self.scene.accuracy != accuracy0 {
+            // The motion changed: so may its accuracy.
+            diagnostics.extend(self.estimate_error());
+        }
         self.status.residual = self.residual();
         self.status.message = diagnostics.last().cloned();
         self.edits += 1;
@@ -1126,6 +1148,13 @@ impl Core for Editor {
             o.insert("updates".into(), serde_json::json!(self.updates));
             o.insert("update_ms".into(), serde_json::json!({"median": report::num(pick(0.5)), "p95": report::num(pick(0.95)), "max": report::num(times.last().copied().unwrap_or(0.0))}));
             o.insert("residual".into(), report::num(self.residual()));
+            if let Some(e) = self.status.integration_error {
+                let [p, r, v, w] = e.map(report::num);
+                o.insert(
+                    "integration_error".into(),
+                    serde_json::json!({"position": p, "orientation": r, "velocity": v, "angular_velocity": w}),
+                );
+            }
         }
         v
     }

@@ -54,6 +54,10 @@ pub struct SimOptions {
     /// cannot change the residual, and a long settling tail (micro-
     /// collisions on a support) costs more than the whole flight.
     pub until: Option<f64>,
+    /// Largest turn of a body's angular velocity within one RK4 substep,
+    /// rad: a fast-precessing body takes its step in substeps this fine.
+    /// Halving it with the step halves every step (the error estimate).
+    pub substep_turn: f64,
 }
 
 impl Default for SimOptions {
@@ -64,6 +68,7 @@ impl Default for SimOptions {
             max_events: crate::scene::MAX_EVENTS,
             window: 0.05,
             until: None,
+            substep_turn: SUBSTEP_TURN,
         }
     }
 }
@@ -577,7 +582,7 @@ impl Sim<'_> {
                     // lopsided body) takes it in substeps of 0.1 rad.
                     let d = &self.traj.dynamics[i];
                     let rate = d.precession_rate(&integrator::body_rate(&c.z));
-                    let n = (rate * h / SUBSTEP_TURN).ceil().max(1.0);
+                    let n = (rate * h / self.opts.substep_turn).ceil().max(1.0);
                     if n > MAX_SUBSTEPS as f64 {
                         return Err(SimError::SpinTooFast {
                             body: self.scene.bodies[i].name.clone(),
