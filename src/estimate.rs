@@ -136,11 +136,8 @@ impl ErrorEstimate {
     /// The `integration_error` object of a JSON report.
     pub fn json(&self) -> serde_json::Value {
         let mut m = serde_json::Map::new();
-        for q in 0..4 {
-            m.insert(
-                QUANTITIES[q].replace(' ', "_"),
-                crate::report::num(self.per_quantity[q]),
-            );
+        for (name, value) in QUANTITIES.iter().zip(self.per_quantity) {
+            m.insert(name.replace(' ', "_"), crate::report::num(value));
         }
         m.insert("threshold".into(), crate::report::num(THRESHOLD));
         m.insert(
