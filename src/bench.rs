@@ -12,7 +12,9 @@
 //!   reference, in time and error;
 //! - `scaling`: growth with bodies, horizon and free controls;
 //! - `effects`: each effect off and on, with its evaluation count;
-//! - `latency`: replay of the eggs editing session, if its script exists.
+//! - `latency`: replay of the eggs editing session, if its script exists;
+//! - `cliffs`: scenes whose cost is out of proportion (a fine ellipsoid
+//!   rocking to rest), with their event counts.
 //!
 //! The last line is always the summary: how much faster and more accurate
 //! tangents are than central differences (median over paper scenes).
@@ -20,6 +22,7 @@
 //! run goes on. `--quick` runs fewer repetitions, settings and sizes.
 
 mod cases;
+mod cliffs;
 mod effects;
 mod fd;
 mod jacobian;
@@ -49,13 +52,14 @@ pub struct BenchArgs {
 }
 
 /// Section names, in run order.
-pub const SECTIONS: [&str; 6] = [
+pub const SECTIONS: [&str; 7] = [
     "jacobian",
     "work-precision",
     "methods",
     "scaling",
     "effects",
     "latency",
+    "cliffs",
 ];
 
 /// State shared by the sections: the paper scenes with their reference
@@ -137,7 +141,7 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write) -> std::io::Result<()> {
                 heading(
                     out,
                     name,
-                    "tangent Jacobian vs finite differences, per paper scene (issue 3)",
+                    "tangent Jacobian vs finite differences, per paper scene",
                 )?;
                 jacobian::print_jacobian(out, bench.studies())?;
             }
@@ -145,7 +149,7 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write) -> std::io::Result<()> {
                 heading(
                     out,
                     name,
-                    "error vs time per differential update, per accuracy setting (issue 7)",
+                    "error vs time per differential update, per accuracy setting",
                 )?;
                 let rows = precision::rows(&plan, bench.paper());
                 precision::print(out, &rows, bench.paper(), args.csv.as_deref())?;
@@ -154,7 +158,7 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write) -> std::io::Result<()> {
                 heading(
                     out,
                     name,
-                    "tangents vs central vs forward differences against the reference (issue 7)",
+                    "tangents vs central vs forward differences against the reference",
                 )?;
                 jacobian::print_methods(out, bench.studies())?;
             }
@@ -169,6 +173,10 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write) -> std::io::Result<()> {
             "latency" => {
                 heading(out, name, "replay of the eggs editing session")?;
                 latency::print(out)?;
+            }
+            "cliffs" => {
+                heading(out, name, "scenes whose cost is out of proportion")?;
+                cliffs::print(out, &plan)?;
             }
             _ => {}
         }

@@ -142,7 +142,7 @@ fn latency_replays_the_session_or_says_it_is_missing() {
 #[test]
 fn unknown_section_lists_the_sections() {
     let text = bench("no-such-section");
-    assert!(text.contains("no section matches --only \"no-such-section\"; sections: jacobian, work-precision, methods, scaling, effects, latency"), "{text}");
+    assert!(text.contains("no section matches --only \"no-such-section\"; sections: jacobian, work-precision, methods, scaling, effects, latency, cliffs"), "{text}");
     assert!(
         text.lines()
             .last()
@@ -220,4 +220,19 @@ fn methods_and_the_summary_line() {
         let v: f64 = v.parse().unwrap_or_else(|_| panic!("{v:?} in {last}"));
         assert!(v > 0.0 && v.is_finite());
     }
+}
+
+/// The cliffs section counts the events of a fine ellipsoid rocking to
+/// rest: hundreds per body today (micro-collisions), each row with a time.
+#[test]
+fn cliffs_count_the_rocking_events() {
+    let text = bench("cliffs");
+    let rows = table_rows(&text, "cliffs");
+    assert!(rows.len() >= 2, "{text}");
+    for r in &rows {
+        let events: usize = r[2].parse().expect("an event count");
+        assert!(events > 10, "it rocks: {r:?}");
+        positive_ms(&r[4], "sim");
+    }
+    no_nan(&text);
 }

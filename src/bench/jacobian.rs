@@ -1,4 +1,4 @@
-//! Sections `jacobian` (issue 3) and `methods` (issue 7): the tangent
+//! Sections `jacobian` and `methods`: the tangent
 //! Jacobian against central and forward finite differences, in time and in
 //! error, per paper scene. Both sections print from one shared study.
 
