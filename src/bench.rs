@@ -1,4 +1,4 @@
-//! `nudge bench`: what accuracy costs in time (DESIGN §8). A benchmark
+//! `nudge bench`: what accuracy costs in time (docs/design.md §8). A benchmark
 //! that prints tables — never a timed assertion in a test.
 //!
 //! Sections (select with `--only`):

@@ -1,7 +1,7 @@
 //! Headless key scripts: parse keystrokes written in vim notation and replay
 //! them through the very same key map, [`App`](crate::tui::App) and widgets
 //! as the terminal UI, on a ratatui `TestBackend`. This is how tests and
-//! benchmarks drive an editing session (DESIGN §1, §9).
+//! benchmarks drive an editing session (docs/design.md §1, §9).
 //!
 //! ```
 //! use nudge::script::parse_keys;

@@ -1,4 +1,4 @@
-//! The rigid-body simulator with tangent propagation (DESIGN §3–§5).
+//! The rigid-body simulator with tangent propagation (docs/design.md §3–§5).
 //!
 //! [`simulate`] integrates the whole motion of a [`Scene`](crate::scene::Scene)
 //! for its control layout and returns a [`Trajectory`]: every body's state at

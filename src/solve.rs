@@ -1,4 +1,4 @@
-//! Constraints and the differential update (paper §4.1–4.2, §5; DESIGN §6–§7).
+//! Constraints and the differential update (paper §4.1–4.2, §5; docs/design.md §6–§7).
 //!
 //! Each [`Constraint`] yields residual rows `r` (the change wanted) and
 //! Jacobian rows `C = ∂g/∂q · J`. [`update`] solves

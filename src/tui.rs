@@ -1,6 +1,6 @@
 //! The terminal UI: key map → action → [`crate::edit::Edit`] on a
 //! [`crate::edit::Core`] → pure render of a [`crate::view::View`]
-//! (DESIGN §9). The headless runner ([`crate::script`]) drives the very same
+//! (docs/design.md §9). The headless runner ([`crate::script`]) drives the very same
 //! [`App`], key map and widgets on a `TestBackend`.
 //!
 //! Front door: [`run`] for the real terminal, [`event_loop`] for any

@@ -1,6 +1,6 @@
 //! The render model: a plain-data snapshot of everything the screen (or a
 //! headless report) shows. The editor core fills it; the TUI only draws it.
-//! Rendering never runs the simulator (DESIGN §9).
+//! Rendering never runs the simulator (docs/design.md §9).
 
 use crate::math::Vec3;
 

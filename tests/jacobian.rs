@@ -1,4 +1,4 @@
-//! Tangent Jacobians against central finite differences (DESIGN §5).
+//! Tangent Jacobians against central finite differences (docs/design.md §5).
 
 use nudge::controls::Controls;
 use nudge::geometry::Geometry;

@@ -1,4 +1,4 @@
-//! Section `effects` (DESIGN §3): a box tossed onto the ground with every
+//! Section `effects` (docs/design.md §3): a box tossed onto the ground with every
 //! effect listed, and each effect switched off in turn. The effect's
 //! evaluation counter proves that an unlisted effect is never evaluated.
 

@@ -1,4 +1,4 @@
-//! Section `work-precision` (DESIGN §8): for each paper scene and
+//! Section `work-precision` (docs/design.md §8): for each paper scene and
 //! accuracy setting, the error of the final state and of the Jacobian
 //! against the reference run, versus the median time of one differential
 //! update (a drag constraint's solve and its trial simulations with

@@ -912,7 +912,7 @@ mod tests {
         assert!((r.normal + Vec3::z()).norm() < 1e-12);
     }
 
-    /// DESIGN §4: with `a` as parry's shape 1, `n = −normal1` points from b to a.
+    /// docs/design.md §4: with `a` as parry's shape 1, `n = −normal1` points from b to a.
     #[test]
     fn normal_points_from_b_towards_a_for_two_balls() {
         let ball = Geometry::sphere(0.5).unwrap();

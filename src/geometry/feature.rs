@@ -35,7 +35,7 @@ pub enum SideFeature {
 
 /// How two owners touch: one feature on each side plus the parts involved.
 /// It models how the contact point and normal move with the owners, which
-/// the collision Jacobian needs (DESIGN §5).
+/// the collision Jacobian needs (docs/design.md §5).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FeaturePair {
     pub a: SideFeature,

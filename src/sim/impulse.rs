@@ -1,4 +1,4 @@
-//! The collision impulse map `Φ(q⁻, u)` (DESIGN §4) and its exact
+//! The collision impulse map `Φ(q⁻, u)` (docs/design.md §4) and its exact
 //! derivatives. The map is written once, generic in the scalar, and
 //! evaluated with `f64` to apply the impulse and with forward-mode dual
 //! numbers (num-dual) to get `E_q`, `Φ_q` and `Φ_u` in one pass — so the

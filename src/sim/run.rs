@@ -1,5 +1,5 @@
 //! The simulation loop: windows of integration, event search, impulses and
-//! the saltation update of the Jacobian at every impulse (DESIGN §5).
+//! the saltation update of the Jacobian at every impulse (docs/design.md §5).
 
 use super::dynamics::BodyDynamics;
 use super::events::{Pair, Tolerances, World};

@@ -1,7 +1,7 @@
 use crate::math::Vec3;
 use nalgebra::UnitQuaternion;
 
-/// The state of one rigid body (DESIGN §2).
+/// The state of one rigid body (docs/design.md §2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodyState {
     /// Centre-of-mass position, m.

@@ -522,7 +522,7 @@ pub fn update(
     }
     // Otherwise (and when no direction is known) sample around the step
     // that left the component — the largest one — and jump only if that
-    // beats staying put (DESIGN §7).
+    // beats staying put (docs/design.md §7).
     let centre = first_crossing.unwrap_or_else(|| du.clone() * opts.step);
     let spread: DVector<f64> = if centre.norm() > 0.0 {
         centre
