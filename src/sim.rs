@@ -12,6 +12,7 @@
 
 mod budget;
 mod dynamics;
+mod error;
 mod events;
 mod flight;
 mod impulse;
