@@ -1,0 +1,352 @@
+//! One edit applied: the arm of each `Edit`, then the commit, the
+//! integration error estimate and the outcome.
+
+use super::*;
+
+impl Editor {
+    pub(super) fn apply_inner(&mut self, edit: Edit) -> Result<Outcome, EditError> {
+        let started = Instant::now();
+        let updates0 = self.updates;
+        let before = self.snapshot();
+        let old_values = self.values();
+        let mut changed = true;
+        let mut diagnostics: Vec<String> = Vec::new();
+        let (revision0, accuracy0) = (self.revision, self.scene.accuracy);
+        let adds_constraint = matches!(
+            edit,
+            Edit::Nail { .. } | Edit::Float { .. } | Edit::Expression(_) | Edit::Vertical { .. }
+        );
+        match edit {
+            Edit::SelectBody(i) => {
+                if i >= self.scene.bodies.len() {
+                    return Err(invalid(format!(
+                        "no body {i}: the scene has {} bodies",
+                        self.scene.bodies.len()
+                    )));
+                }
+                self.selected = i;
+                changed = false;
+            }
+            Edit::SelectTime(t) => {
+                if !t.is_finite() {
+                    return Err(invalid(format!(
+                        "time must be a finite number of seconds, got {t}"
+                    )));
+                }
+                self.time = t.clamp(0.0, self.scene.duration);
+                changed = false;
+            }
+            Edit::SelectEvent(k) => {
+                let e = self.traj.events.get(k).ok_or_else(|| {
+                    invalid(format!(
+                        "no event {k}: the motion has {} events",
+                        self.traj.events.len()
+                    ))
+                })?;
+                self.time = e.t;
+                changed = false;
+            }
+            Edit::Nudge { quantity, delta } => {
+                let d = self.nudge(quantity, delta)?;
+                diagnostics.extend(d.iter().map(|x| x.to_string()));
+                changed = self.updates > updates0 && self.values() != old_values;
+            }
+            Edit::Nail { quantities, exact } => {
+                let quantities = if quantities.is_empty() {
+                    StateQuantity::ALL.to_vec()
+                } else {
+                    quantities
+                };
+                let s = self.traj.state(self.selected, self.time, StateSide::After);
+                let target = targets(&s, &quantities, &exact)?;
+                self.constraints.push(Constraint {
+                    body: self.selected,
+                    anchor: Anchor::Time(self.time),
+                    kind: Kind::State { quantities, target },
+                    drag: false,
+                });
+            }
+            Edit::Float {
+                quantities,
+                exact,
+                side,
+            } => {
+                let quantities = if quantities.is_empty() {
+                    StateQuantity::ALL.to_vec()
+                } else {
+                    quantities
+                };
+                let (k, global) = self.nearest_collision().ok_or_else(|| {
+                    invalid(format!(
+                        "{} has no collision to float a constraint on",
+                        self.scene.bodies[self.selected].name
+                    ))
+                })?;
+                let e = &self.traj.events[global];
+                let s = self.traj.state(
+                    self.selected,
+                    e.t,
+                    if side == Side::Pre {
+                        StateSide::Before
+                    } else {
+                        StateSide::After
+                    },
+                );
+                let target = targets(&s, &quantities, &exact)?;
+                self.constraints.push(Constraint {
+                    body: self.selected,
+                    anchor: Anchor::Event { collision: k, side },
+                    kind: Kind::State { quantities, target },
+                    drag: false,
+                });
+            }
+            Edit::Expression(x) => {
+                let n = self.scene.bodies.len();
+                let kind = match x {
+                    Expression::EqualSpeed { other } if other < n => Kind::EqualSpeed { other },
+                    Expression::AngularSpeed { value } if value.is_finite() && value >= 0.0 => {
+                        Kind::AngularSpeed { value }
+                    }
+                    Expression::PointOnPlane {
+                        point,
+                        normal,
+                        offset,
+                    } if normal.norm() > 0.0 && offset.is_finite() => {
+                        finite3(&point, "the point")?;
+                        finite3(&normal, "the plane normal")?;
+                        Kind::PointOnPlane {
+                            point,
+                            normal,
+                            offset,
+                        }
+                    }
+                    Expression::Distance {
+                        other,
+                        point,
+                        other_point,
+                        value,
+                    } if other < n && value.is_finite() && value >= 0.0 => {
+                        finite3(&point, "the point")?;
+                        finite3(&other_point, "the other point")?;
+                        Kind::Distance {
+                            other,
+                            point,
+                            other_point,
+                            value,
+                        }
+                    }
+                    other => {
+                        return Err(invalid(format!(
+                            "invalid expression constraint {other:?}: bodies must exist and values be finite and non-negative"
+                        )));
+                    }
+                };
+                self.constraints.push(Constraint {
+                    body: self.selected,
+                    anchor: Anchor::Time(self.time),
+                    kind,
+                    drag: false,
+                });
+            }
+            Edit::Vertical { goal, side } => {
+                let anchor = match side {
+                    None => Anchor::Time(self.time),
+                    Some(side) => {
+                        let (collision, _) = self.nearest_collision().ok_or_else(|| {
+                            invalid(format!(
+                                "{} has no collision to hold it {} at",
+                                self.scene.bodies[self.selected].name,
+                                goal.word()
+                            ))
+                        })?;
+                        Anchor::Event { collision, side }
+                    }
+                };
+                // Upright: the shape's z axis (the body frame is the
+                // shape's, moved to the centre of mass). Steady: the world's.
+                let kind = match goal {
+                    Vertical::Upright => Kind::Upright { axis: Vec3::z() },
+                    Vertical::Steady => Kind::Steady { axis: Vec3::z() },
+                };
+                self.constraints.push(Constraint {
+                    body: self.selected,
+                    anchor,
+                    kind,
+                    drag: false,
+                });
+            }
+            Edit::RemoveConstraint(i) => {
+                if i >= self.constraints.len() {
+                    return Err(invalid(format!(
+                        "no constraint {i}: there are {}",
+                        self.constraints.len()
+                    )));
+                }
+                self.constraints.remove(i);
+            }
+            Edit::SetBlock { body, block, free } => {
+                let b = self
+                    .scene
+                    .bodies
+                    .get_mut(body)
+                    .ok_or_else(|| invalid(format!("no body {body}")))?;
+                b.free.retain(|x| *x != block);
+                if free {
+                    b.free.push(block);
+                    b.free.sort();
+                }
+                self.rebuild()?;
+            }
+            Edit::AddEventControls {
+                normal,
+                restitution,
+            } => {
+                let (_, global) = self.nearest_collision().ok_or_else(|| {
+                    invalid(format!(
+                        "{} has no collision to add controls at",
+                        self.scene.bodies[self.selected].name
+                    ))
+                })?;
+                let e_used = self.traj.events[global].restitution;
+                let c = match self
+                    .scene
+                    .event_controls
+                    .iter_mut()
+                    .find(|c| c.event == global)
+                {
+                    Some(c) => c,
+                    None => {
+                        self.scene.event_controls.push(EventControl {
+                            event: global,
+                            normal: None,
+                            restitution: None,
+                            fixed: false,
+                        });
+                        self.scene
+                            .event_controls
+                            .last_mut()
+                            .ok_or_else(|| invalid("internal: event control"))?
+                    }
+                };
+                if normal && c.normal.is_none() {
+                    c.normal = Some([0.0, 0.0]);
+                }
+                if restitution && c.restitution.is_none() {
+                    c.restitution = Some(e_used);
+                }
+                self.rebuild()?;
+            }
+            Edit::SetEventControls { event, free } => {
+                let event = match event {
+                    Some(k) => k,
+                    None => {
+                        self.nearest_collision()
+                            .ok_or_else(|| {
+                                invalid(format!(
+                                    "{} has no collision whose controls to fix or free",
+                                    self.scene.bodies[self.selected].name
+                                ))
+                            })?
+                            .1
+                    }
+                };
+                let c = self
+                    .scene
+                    .event_controls
+                    .iter_mut()
+                    .find(|c| c.event == event)
+                    .ok_or_else(|| {
+                        invalid(format!(
+                            "event {event} has no controls: press e at it (or :event {event} then e) to add them"
+                        ))
+                    })?;
+                c.fixed = match free {
+                    Some(f) => !f,
+                    None => !c.fixed,
+                };
+                self.rebuild()?;
+            }
+            Edit::SetScale { kind, value } => {
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(invalid(format!(
+                        "scale must be a finite number > 0, got {value}"
+                    )));
+                }
+                let s = &mut self.scene.scales;
+                match kind.as_str() {
+                    "position" => s.position = value,
+                    "orientation" => s.orientation = value,
+                    "velocity" => s.velocity = value,
+                    "angular_velocity" => s.angular_velocity = value,
+                    "mass" => s.mass = value,
+                    "inertia" => s.inertia = value,
+                    "normal" => s.normal = value,
+                    "restitution" => s.restitution = value,
+                    other => {
+                        return Err(invalid(format!(
+                            "unknown scale {other:?}: use position, orientation, velocity, angular_velocity, mass, inertia, normal or restitution"
+                        )));
+                    }
+                }
+                self.rebuild()?;
+            }
+            Edit::SetAccuracy(acc) => {
+                if let Some((problem, fix)) = acc.problem(self.scene.duration) {
+                    return Err(invalid(format!("{problem}: {fix}")));
+                }
+                self.scene.accuracy = acc;
+                self.rebuild()?;
+                self.status.accuracy = acc.label();
+            }
+            Edit::Settle { budget_ms } => {
+                let d = self.settle(budget_ms)?;
+                diagnostics.extend(d.iter().map(|x| x.to_string()));
+                changed = self.values() != old_values;
+            }
+            Edit::Undo => {
+                let s = self.undo.pop().ok_or_else(|| invalid("nothing to undo"))?;
+                let now = self.snapshot();
+                if let Err(e) = self.restore(s.clone()) {
+                    self.undo.push(s);
+                    return Err(e);
+                }
+                self.redo.push(now);
+                self.last_delta = self.deltas(&old_values);
+                changed = false;
+            }
+            Edit::Redo => {
+                let s = self.redo.pop().ok_or_else(|| invalid("nothing to redo"))?;
+                let now = self.snapshot();
+                if let Err(e) = self.restore(s.clone()) {
+                    self.redo.push(s);
+                    return Err(e);
+                }
+                self.undo.push(now);
+                self.last_delta = self.deltas(&old_values);
+                changed = false;
+            }
+        }
+        if adds_constraint && !self.residual().is_finite() {
+            // `:nail position 1e308 1e308 1e308` or `:spin 1e308`: a target
+            // so far away that its distance overflows could never be shown
+            // or reached. The caller restores the state.
+            return Err(EditError::TargetOutOfRange);
+        }
+        if changed {
+            self.commit(before, old_values);
+            self.refresh_geometry();
+        }
+        if self.revision != revision0 || self.scene.accuracy != accuracy0 {
+            // The motion changed: so may its accuracy.
+            diagnostics.extend(self.estimate_error());
+        }
+        self.status.residual = self.residual();
+        self.status.message = diagnostics.last().cloned();
+        self.edits += 1;
+        Ok(Outcome {
+            updates: self.updates - updates0,
+            elapsed_ms: started.elapsed().as_secs_f64() * 1e3,
+            diagnostics,
+        })
+    }
+}

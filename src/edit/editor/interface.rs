@@ -1,0 +1,160 @@
+//! The editor as the user interfaces see it: `Core`.
+
+use super::*;
+
+impl Core for Editor {
+    fn apply(&mut self, edit: Edit) -> Result<Outcome, EditError> {
+        let before = self.snapshot();
+        let (selected, time, revision) = (self.selected, self.time, self.revision);
+        let undo_len = self.undo.len();
+        match self.apply_inner(edit) {
+            Ok(o) => Ok(o),
+            Err(e) => {
+                // Atomic: put everything back as it was.
+                self.selected = selected;
+                self.time = time;
+                self.revision = revision;
+                self.undo.truncate(undo_len);
+                if self.scene.bodies.len() != before.scene.bodies.len()
+                    || self.constraints != before.constraints
+                    || self.controls.values(&self.scene) != self.controls.values(&before.scene)
+                    || self.scene.event_controls != before.scene.event_controls
+                {
+                    let _ = self.restore(before);
+                } else {
+                    self.scene = before.scene;
+                    self.constraints = before.constraints;
+                    let _ = self.rebuild();
+                }
+                self.status.message = Some(e.to_string());
+                Err(e)
+            }
+        }
+    }
+
+    fn view(&self) -> View {
+        let events = self
+            .traj
+            .events
+            .iter()
+            .map(|e| view::EventMark {
+                index: e.index,
+                t: e.t,
+                point: e.point,
+                a: report::party_name(&self.scene, Party::Body(e.a)),
+                b: report::party_name(&self.scene, e.b),
+                grazing: e.grazing,
+            })
+            .collect();
+        let controls = self
+            .controls
+            .entries
+            .iter()
+            .enumerate()
+            .map(|(i, e)| view::ControlRow {
+                name: e.name.clone(),
+                value: self.controls.get(&self.scene, i),
+                delta: self.last_delta.get(i).copied().unwrap_or(0.0),
+                free: e.free,
+                scale: e.scale,
+            })
+            .collect();
+        let constraints = self
+            .constraint_rows()
+            .into_iter()
+            .map(|r| view::ConstraintRow {
+                kind: r.kind,
+                body: r.body,
+                at: r.at,
+                residual: r.residual,
+            })
+            .collect();
+        let others = (0..self.scene.bodies.len())
+            .filter(|&i| i != self.selected)
+            .flat_map(|i| self.body_lines(i))
+            .collect();
+        View {
+            scene: self.scene.name.clone(),
+            notes: self.scene.notes.clone(),
+            duration: self.scene.duration,
+            time: self.time,
+            bodies: self.scene.bodies.iter().map(|b| b.name.clone()).collect(),
+            selected: self.selected,
+            paths: self.paths.clone(),
+            obstacles: self.obstacle_lines.clone(),
+            selected_outline: if self.scene.bodies.is_empty() {
+                Vec::new()
+            } else {
+                self.body_lines(self.selected)
+            },
+            body_outlines: others,
+            events,
+            controls,
+            constraints,
+            status: self.status.clone(),
+            dirty: self.dirty(),
+            accuracy: self.scene.accuracy,
+        }
+    }
+
+    fn save(&mut self, path: Option<&Path>, mode: WriteMode) -> Result<Saved, EditError> {
+        let target = path
+            .map(Path::to_path_buf)
+            .or_else(|| self.path.clone())
+            .ok_or_else(|| {
+                EditError::Save(format!(
+                    "this scene has no file yet: give one, e.g. :w {}.toml",
+                    self.scene.name
+                ))
+            })?;
+        let layout_lost =
+            scene::save(&self.scene_to_save(), &target, mode).map_err(|e| match e {
+                WriteError::ReadOnly { path } => EditError::ReadOnly(path),
+                other => EditError::Save(other.to_string()),
+            })?;
+        self.path = Some(target.clone());
+        self.saved_revision = self.revision;
+        Ok(Saved {
+            path: target,
+            layout_lost,
+        })
+    }
+
+    fn dirty(&self) -> bool {
+        self.revision != self.saved_revision
+    }
+
+    fn report(&self) -> serde_json::Value {
+        let rows = self.constraint_rows();
+        let mut v = report::summary(
+            &self.scene,
+            &self.controls,
+            &self.traj,
+            &rows,
+            &self.status.message.iter().cloned().collect::<Vec<_>>(),
+        );
+        let mut times = self.update_ms.clone();
+        times.sort_by(f64::total_cmp);
+        let pick = |q: f64| {
+            if times.is_empty() {
+                0.0
+            } else {
+                times[((times.len() - 1) as f64 * q).round() as usize]
+            }
+        };
+        if let Some(o) = v.as_object_mut() {
+            o.insert("edits".into(), serde_json::json!(self.edits));
+            o.insert("updates".into(), serde_json::json!(self.updates));
+            o.insert("update_ms".into(), serde_json::json!({"median": report::num(pick(0.5)), "p95": report::num(pick(0.95)), "max": report::num(times.last().copied().unwrap_or(0.0))}));
+            o.insert("residual".into(), report::num(self.residual()));
+            if let Some(e) = self.status.integration_error {
+                let [p, r, v, w] = e.map(report::num);
+                o.insert(
+                    "integration_error".into(),
+                    serde_json::json!({"position": p, "orientation": r, "velocity": v, "angular_velocity": w}),
+                );
+            }
+        }
+        v
+    }
+}
