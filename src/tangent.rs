@@ -91,14 +91,7 @@ fn perturbed(
     for (c, &i) in controls.free.iter().enumerate() {
         controls.set(&mut s, i, v[c]);
     }
-    simulate(
-        &s,
-        controls,
-        &SimOptions {
-            tangent: false,
-            ..SimOptions::default()
-        },
-    )
+    simulate(&s, controls, &SimOptions::without_tangents())
 }
 
 impl FiniteDifference {
@@ -124,14 +117,7 @@ impl FiniteDifference {
         step: Option<f64>,
     ) -> Result<FiniteDifference, SimError> {
         let u = controls.values(scene);
-        let nominal = simulate(
-            scene,
-            controls,
-            &SimOptions {
-                tangent: false,
-                ..SimOptions::default()
-            },
-        )?;
+        let nominal = simulate(scene, controls, &SimOptions::without_tangents())?;
         let sig = nominal.signature();
         let mut runs = Vec::new();
         let mut steps = Vec::new();

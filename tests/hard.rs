@@ -34,10 +34,7 @@ fn run(scene: &Scene) -> Result<Trajectory, SimError> {
     simulate(
         scene,
         &Controls::new(scene),
-        &SimOptions {
-            tangent: false,
-            ..SimOptions::default()
-        },
+        &SimOptions::without_tangents(),
     )
 }
 

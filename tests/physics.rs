@@ -8,15 +8,7 @@ use nudge::testkit::{self, body, body_with_inertia, ground, obstacle};
 
 fn run(scene: &nudge::scene::Scene) -> nudge::sim::Trajectory {
     let controls = Controls::new(scene);
-    simulate(
-        scene,
-        &controls,
-        &SimOptions {
-            tangent: false,
-            ..SimOptions::default()
-        },
-    )
-    .expect("simulates")
+    simulate(scene, &controls, &SimOptions::without_tangents()).expect("simulates")
 }
 
 #[test]
@@ -255,15 +247,7 @@ fn sustained_body_contact_is_reported_not_looped() {
     s.bodies.push(a);
     s.bodies.push(b);
     s.pairs.push([0, 1]);
-    let err = simulate(
-        &s,
-        &Controls::new(&s),
-        &SimOptions {
-            tangent: false,
-            ..SimOptions::default()
-        },
-    )
-    .unwrap_err();
+    let err = simulate(&s, &Controls::new(&s), &SimOptions::without_tangents()).unwrap_err();
     assert!(
         matches!(err, nudge::sim::SimError::SustainedContact { .. }),
         "{err}"

@@ -410,15 +410,7 @@ fn scissors_bounce_misses(report: &Value, scene: &nudge::scene::Scene) -> Vec<St
     };
     // The scene must reproduce the report's motion.
     let controls = Controls::new(scene);
-    let traj = simulate(
-        scene,
-        &controls,
-        &SimOptions {
-            tangent: false,
-            ..SimOptions::default()
-        },
-    )
-    .expect("simulates");
+    let traj = simulate(scene, &controls, &SimOptions::without_tangents()).expect("simulates");
     let same = |t: f64| traj.events.iter().any(|e| (e.t - t).abs() < 1e-9);
     assert!(
         same(bounce) && same(landing),

@@ -137,14 +137,7 @@ pub(crate) fn reference(case: &Case) -> Result<Reference, String> {
     for acc in REFERENCES {
         let s = case.with_accuracy(acc);
         let t = Instant::now();
-        let r = simulate(
-            &s,
-            &case.controls,
-            &SimOptions {
-                tangent: false,
-                ..SimOptions::default()
-            },
-        );
+        let r = simulate(&s, &case.controls, &SimOptions::without_tangents());
         tried.push((
             acc,
             r.map(|_| t.elapsed().as_secs_f64() * 1e3)

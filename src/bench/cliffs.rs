@@ -39,10 +39,7 @@ fn rocking_ellipsoids(n: usize, resolution: u32) -> Result<Scene, String> {
 fn run(plan: &Plan, scene: &Scene) -> Result<(Timing, usize), String> {
     guarded(|| {
         let controls = Controls::new(scene);
-        let opts = SimOptions {
-            tangent: false,
-            ..SimOptions::default()
-        };
+        let opts = SimOptions::without_tangents();
         let (t, tr) =
             measure(plan, || simulate(scene, &controls, &opts)).map_err(|e| e.to_string())?;
         Ok((t, tr.events.len()))

@@ -52,14 +52,7 @@ fn run(plan: &Plan, scene: &Scene, e: Effect) -> Result<(Timing, u64, usize), St
     guarded(|| {
         let controls = Controls::new(scene);
         let (t, tr) = measure(plan, || {
-            simulate(
-                scene,
-                &controls,
-                &SimOptions {
-                    tangent: false,
-                    ..SimOptions::default()
-                },
-            )
+            simulate(scene, &controls, &SimOptions::without_tangents())
         })
         .map_err(|e| e.to_string())?;
         Ok((t, count(&tr.counters, e), tr.events.len()))

@@ -44,14 +44,7 @@ fn perturbed(
     for (c, &i) in controls.free.iter().enumerate() {
         controls.set(&mut s, i, if c == col { u[c] + h } else { u[c] });
     }
-    simulate(
-        &s,
-        controls,
-        &SimOptions {
-            tangent: false,
-            ..SimOptions::default()
-        },
-    )
+    simulate(&s, controls, &SimOptions::without_tangents())
 }
 
 impl FdRuns {
@@ -62,14 +55,7 @@ impl FdRuns {
         scheme: Scheme,
     ) -> Result<FdRuns, SimError> {
         let u = controls.values(scene);
-        let nominal = simulate(
-            scene,
-            controls,
-            &SimOptions {
-                tangent: false,
-                ..SimOptions::default()
-            },
-        )?;
+        let nominal = simulate(scene, controls, &SimOptions::without_tangents())?;
         let mut cols = Vec::with_capacity(controls.m());
         for col in 0..controls.m() {
             let h = scheme.step(u[col]);

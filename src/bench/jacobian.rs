@@ -56,14 +56,7 @@ fn run_study(plan: &Plan, case: &Case, prep: &Prepared) -> Result<Study, String>
         Ok::<_, String>((tr, j))
     })?;
     let (plain, _) = measure(plan, || {
-        simulate(
-            scene,
-            controls,
-            &SimOptions {
-                tangent: false,
-                ..SimOptions::default()
-            },
-        )
+        simulate(scene, controls, &SimOptions::without_tangents())
     })
     .map_err(|e| e.to_string())?;
     let (central, fc) = measure(plan, || FdRuns::new(scene, controls, Scheme::Central))

@@ -36,6 +36,17 @@ pub struct SimOptions {
     pub substep_turn: f64,
 }
 
+impl SimOptions {
+    /// The default options without tangents: the states alone (trial
+    /// simulations, finite differences, error estimates).
+    pub fn without_tangents() -> SimOptions {
+        SimOptions {
+            tangent: false,
+            ..SimOptions::default()
+        }
+    }
+}
+
 impl Default for SimOptions {
     fn default() -> Self {
         SimOptions {

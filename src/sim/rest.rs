@@ -315,7 +315,7 @@ pub(crate) fn decide(i: &Impact<'_>) -> Mode {
     let sup = supports(scene, i.body, i.obstacle, s, i.band);
     if sup
         .iter()
-        .any(|p| n.dot(&(s.v + s.w.cross(&(p.point - s.x)))).abs() >= v_r)
+        .any(|p| n.dot(&(s.velocity_at(&p.point))).abs() >= v_r)
     {
         return bounce;
     }

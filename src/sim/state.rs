@@ -25,6 +25,11 @@ impl BodyState {
         nalgebra::Isometry3::from_parts(nalgebra::Translation3::from(self.x), self.q)
     }
 
+    /// Velocity of the body's material point at the world position `p`.
+    pub fn velocity_at(&self, p: &Vec3) -> Vec3 {
+        self.v + self.w.cross(&(p - self.x))
+    }
+
     /// Velocity of a body-frame point.
     pub fn point_velocity(&self, p: &Vec3) -> Vec3 {
         self.v + self.w.cross(&(self.q * p))

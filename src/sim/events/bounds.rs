@@ -273,10 +273,8 @@ impl World<'_, '_> {
                 // part is convex in the centre's position in that part's frame:
                 // gap(τ) ≥ gap + ġap τ − ½ A τ², A bounding the centre's
                 // acceleration seen from the part's (rotating) frame.
-                let va = s.v + s.w.cross(&(c.point_a - s.x));
-                let vb = moving_b.map_or(Vec3::zeros(), |(_, sb)| {
-                    sb.v + sb.w.cross(&(c.point_b - sb.x))
-                });
+                let va = s.velocity_at(&c.point_a);
+                let vb = moving_b.map_or(Vec3::zeros(), |(_, sb)| sb.velocity_at(&c.point_b));
                 let rate = n.dot(&(va - vb));
                 let (centre_on_a, part_c) = if ball(ga, c.part_a) {
                     (true, &ga.parts[c.part_a])
@@ -328,7 +326,7 @@ impl World<'_, '_> {
             }
             // The plane moves with b's witness point (and falls with gravity
             // for two bodies): two bodies moving together see slow heights.
-            let vf = moving_b.map_or(Vec3::zeros(), |(_, sb)| sb.v + sb.w.cross(&(p0 - sb.x)));
+            let vf = moving_b.map_or(Vec3::zeros(), |(_, sb)| sb.velocity_at(&p0));
             heights(ga, c.part_a, s, &terms_a, &n, &p0, &vf, 1.0, &mut ha)?;
             let mut step = [f64::INFINITY; K];
             match (moving_b, &terms_b) {

@@ -250,7 +250,7 @@ impl FacePlane {
         let big_t = horizon.max(0.0);
         let lever = (point - s.x).norm();
         let turn = w_max * w_max + alpha;
-        let vc = s.v + s.w.cross(&(point - s.x));
+        let vc = s.velocity_at(&point);
         let speed = (vc.norm() + (g + rem + turn * lever) * big_t)
             .min(s.v.norm() + (g + rem) * big_t + w_max * lever);
         let md = s.w.cross(&m);

@@ -64,12 +64,8 @@ impl World<'_, '_> {
     }
 
     pub(super) fn normal_rate(c: &Contact, sa: &Option<BodyState>, sb: &Option<BodyState>) -> f64 {
-        let va = sa
-            .map(|s| s.v + s.w.cross(&(c.point_a - s.x)))
-            .unwrap_or_default();
-        let vb = sb
-            .map(|s| s.v + s.w.cross(&(c.point_b - s.x)))
-            .unwrap_or_default();
+        let va = sa.map(|s| s.velocity_at(&c.point_a)).unwrap_or_default();
+        let vb = sb.map(|s| s.velocity_at(&c.point_b)).unwrap_or_default();
         c.normal.dot(&(va - vb))
     }
 

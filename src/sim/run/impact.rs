@@ -141,7 +141,7 @@ impl Sim<'_> {
                 .into_iter()
                 .map(|(i, p)| {
                     let at = sa.point(&p);
-                    let vb = sb.map_or(Vec3::zeros(), |s| s.v + s.w.cross(&(at - s.x)));
+                    let vb = sb.map_or(Vec3::zeros(), |s| s.velocity_at(&at));
                     (i, p, n.dot(&(sa.point_velocity(&p) - vb)))
                 })
                 .min_by(|x, y| x.2.total_cmp(&y.2));
@@ -168,7 +168,7 @@ impl Sim<'_> {
             // for 1e-8 s at a time while it sank, a hundred thousand times
             // (scissors settling on the coatrack's lip). The actual contact
             // point on b's tangent plane takes the impulse then.
-            let at_contact = |s: &BodyState, p: &Vec3| s.v + s.w.cross(&(p - s.x));
+            let at_contact = |s: &BodyState, p: &Vec3| s.velocity_at(p);
             let vb = sb.map_or(Vec3::zeros(), |s| at_contact(&s, &contact.point_b));
             if n.dot(&(at_contact(&sa, &contact.point_a) - vb)) < 0.0 {
                 let tangent = feature.on_tangent_plane(&sa.pose(), &pose_b, contact);
@@ -187,7 +187,7 @@ impl Sim<'_> {
             // controlled normal is tilted so far that they separate along
             // it: no impulse could keep them apart. Refuse (a solver trial
             // fails; an edit is refused) rather than let them sink.
-            let at = |s: &BodyState, p: &Vec3| s.v + s.w.cross(&(p - s.x));
+            let at = |s: &BodyState, p: &Vec3| s.velocity_at(p);
             let vb = sb.map_or(Vec3::zeros(), |s| at(&s, &contact.point_b));
             if n.dot(&(at(&sa, &contact.point_a) - vb)) < 0.0 {
                 return Err(SimError::NormalAwayFromApproach {
