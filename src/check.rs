@@ -9,7 +9,7 @@
 
 use crate::controls::Controls;
 use crate::scene::Scene;
-use crate::sim::{StateSide, TangentError, Trajectory};
+use crate::sim::{Side, TangentError, Trajectory};
 use crate::tangent::{ColumnKind, FiniteDifference, Scheme};
 use nalgebra::DMatrix;
 use serde_json::{Value, json};
@@ -176,11 +176,11 @@ pub fn jacobian_check(
         // At the final time: every body's state that has a Jacobian.
         let (mut worst, mut compared, mut lost) = ([0.0; 4], false, Vec::new());
         for b in 0..scene.bodies.len() {
-            match traj.jacobian(b, scene.duration, StateSide::After) {
+            match traj.jacobian(b, scene.duration, Side::Post) {
                 Ok(jt) => {
                     per_quantity(
                         &jt,
-                        &fd.at(b, scene.duration, StateSide::After),
+                        &fd.at(b, scene.duration, Side::Post),
                         &cols,
                         &mut worst,
                     );
@@ -194,7 +194,7 @@ pub fn jacobian_check(
         // event time, against J + F dt_c/du.
         let (mut worst, mut compared, mut lost) = ([0.0; 4], false, Vec::new());
         for (k, e) in traj.events.iter().enumerate() {
-            for side in [StateSide::Before, StateSide::After] {
+            for side in [Side::Pre, Side::Post] {
                 match (
                     traj.jacobian_at_event(e.a, e, side),
                     fd.at_event(k, e.a, side),

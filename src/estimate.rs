@@ -14,7 +14,7 @@
 
 use crate::controls::Controls;
 use crate::scene::{Method, Scene};
-use crate::sim::{SimError, SimOptions, StateSide, Trajectory, simulate};
+use crate::sim::{Side, SimError, SimOptions, Trajectory, simulate};
 use crate::tangent::state_difference;
 
 /// Relative estimated error above which a motion is reported as
@@ -79,8 +79,8 @@ pub fn error_estimate(
     let mut per_quantity = [0.0f64; 4];
     let mut relative = [0.0f64; 4];
     for b in 0..scene.bodies.len() {
-        let coarse = traj.state(b, t, StateSide::After);
-        let d = state_difference(&refined.state(b, t, StateSide::After), &coarse);
+        let coarse = traj.state(b, t, Side::Post);
+        let d = state_difference(&refined.state(b, t, Side::Post), &coarse);
         let sizes = [
             coarse.x.norm(),
             std::f64::consts::PI,

@@ -4,7 +4,7 @@
 
 use crate::controls::Controls;
 use crate::scene::{Effect, Scene};
-use crate::sim::{Party, StateSide, Trajectory};
+use crate::sim::{Party, Side, Trajectory};
 use serde_json::{Value, json};
 
 /// A finite number, or JSON `null` (NaN and infinity never reach a report).
@@ -79,7 +79,7 @@ pub fn summary(
         .iter()
         .enumerate()
         .map(|(i, b)| {
-            let s = traj.state(i, traj.duration, StateSide::After);
+            let s = traj.state(i, traj.duration, Side::Post);
             json!({
                 "name": b.name,
                 "final": {
@@ -186,7 +186,7 @@ pub fn text(scene: &Scene, controls: &Controls, traj: &Trajectory) -> String {
     }
     let _ = writeln!(s, "\nfinal states (t = {:.3} s):", traj.duration);
     for (i, b) in scene.bodies.iter().enumerate() {
-        let st = traj.state(i, traj.duration, StateSide::After);
+        let st = traj.state(i, traj.duration, Side::Post);
         let f = |v: &crate::math::Vec3| {
             format!("[{}, {}, {}]", fixed(v.x, 4), fixed(v.y, 4), fixed(v.z, 4))
         };

@@ -31,5 +31,5 @@ pub use impulse::{FrictionMode, ImpulseCtx, ImpulseResult};
 pub use integrator::{euler_rhs, free_rotation};
 pub use rest::Slide;
 pub use run::{SimError, SimOptions, simulate};
-pub use state::{BodyState, StateSide};
+pub use state::{BodyState, Side};
 pub use trajectory::{Counters, Event, Party, TangentError, Trajectory};

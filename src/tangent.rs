@@ -10,7 +10,7 @@
 use crate::controls::Controls;
 use crate::math::{Vec3, log_so3};
 use crate::scene::Scene;
-use crate::sim::{BodyState, SimError, SimOptions, StateSide, Trajectory, simulate};
+use crate::sim::{BodyState, Side, SimError, SimOptions, Trajectory, simulate};
 use nalgebra::{DMatrix, DVector};
 
 /// The 12-vector `b − a` in tangent coordinates `(δx, δθ, δv, δω)`, with
@@ -182,14 +182,14 @@ impl FiniteDifference {
     }
 
     /// The difference-quotient Jacobian of `body`'s state at time `t`.
-    pub fn at(&self, body: usize, t: f64, side: StateSide) -> DMatrix<f64> {
+    pub fn at(&self, body: usize, t: f64, side: Side) -> DMatrix<f64> {
         self.quotients(|tr| tr.state(body, t, side))
     }
 
     /// The difference-quotient Jacobian of `body`'s state just before or after
     /// its `k`-th event — taken at each run's own event time (a floating
     /// quantity), or `None` if a run lacks that event.
-    pub fn at_event(&self, k: usize, body: usize, side: StateSide) -> Option<DMatrix<f64>> {
+    pub fn at_event(&self, k: usize, body: usize, side: Side) -> Option<DMatrix<f64>> {
         let pick = |tr: &Trajectory| tr.events.get(k).map(|e| tr.state(body, e.t, side));
         if self
             .runs
@@ -251,7 +251,7 @@ pub fn tangent_jacobian(
     controls: &Controls,
     body: usize,
     t: f64,
-    side: StateSide,
+    side: Side,
 ) -> Result<DMatrix<f64>, String> {
     let tr = simulate(scene, controls, &SimOptions::default()).map_err(|e| e.to_string())?;
     tr.jacobian(body, t, side).map_err(|e| e.to_string())

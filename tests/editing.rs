@@ -6,7 +6,7 @@ use nudge::edit::{Core, Edit, Expression, Side, Vertical};
 use nudge::geometry::Geometry;
 use nudge::math::Vec3;
 use nudge::scene::{Block, Effects, Scene, StateQuantity};
-use nudge::sim::{SimOptions, StateSide, simulate};
+use nudge::sim::{SimOptions, simulate};
 use nudge::solve::{self, Anchor, Constraint, Diagnostic, Kind, UpdateOptions};
 use nudge::testkit::{self, body, ground, obstacle};
 
@@ -154,14 +154,14 @@ fn each_constraint_kind_converges() {
 fn a_drag_moves_the_dragged_quantity_by_the_nudge() {
     let mut e = Editor::new(ball_scene(), None).unwrap();
     e.apply(Edit::SelectTime(0.3)).unwrap();
-    let before = e.trajectory().state(0, 0.3, StateSide::After).x;
+    let before = e.trajectory().state(0, 0.3, Side::Post).x;
     let delta = Vec3::new(0.02, 0.01, -0.03);
     e.apply(Edit::Nudge {
         quantity: StateQuantity::Position,
         delta,
     })
     .unwrap();
-    let after = e.trajectory().state(0, 0.3, StateSide::After).x;
+    let after = e.trajectory().state(0, 0.3, Side::Post).x;
     assert!(
         (after - before - delta).norm() < 1e-6,
         "moved {:?}",
@@ -196,7 +196,7 @@ fn duplicate_nails_converge_and_conflicting_nails_give_least_squares() {
     let s = ball_scene();
     let controls = Controls::new(&s);
     let traj = simulate(&s, &controls, &SimOptions::default()).unwrap();
-    let x = traj.state(0, 0.5, StateSide::After).x;
+    let x = traj.state(0, 0.5, Side::Post).x;
     let nail = |dx: f64| Constraint {
         body: 0,
         anchor: Anchor::Time(0.5),
@@ -361,8 +361,8 @@ fn save_then_load_reproduces_the_trajectory_bit_for_bit() {
     assert_eq!(u(&back), u(&e));
     assert_eq!(back.constraints().len(), 1);
     for t in [0.0, 0.3, 0.7, 1.2, 1.6] {
-        let a = e.trajectory().state(0, t, StateSide::After);
-        let b = back.trajectory().state(0, t, StateSide::After);
+        let a = e.trajectory().state(0, t, Side::Post);
+        let b = back.trajectory().state(0, t, Side::Post);
         assert_eq!(a.x.map(f64::to_bits), b.x.map(f64::to_bits), "t={t}");
         assert_eq!(a.v.map(f64::to_bits), b.v.map(f64::to_bits), "t={t}");
     }
@@ -424,10 +424,10 @@ fn nails_and_floating_constraints_hold_typed_values() {
         exact: vec![(StateQuantity::Position, want)],
     })
     .unwrap();
-    let v_before = e.trajectory().state(0, 0.5, StateSide::After).v;
+    let v_before = e.trajectory().state(0, 0.5, Side::Post).v;
     assert!(residuals(&e)[0] > 0.1, "typed away from the motion");
     settle(&mut e);
-    let s = e.trajectory().state(0, 0.5, StateSide::After);
+    let s = e.trajectory().state(0, 0.5, Side::Post);
     assert!((s.x - want).norm() < 1e-9, "at {:?}", s.x);
     assert!((s.v - v_before).norm() < 1e-9, "velocity held at its value");
 
@@ -444,7 +444,7 @@ fn nails_and_floating_constraints_hold_typed_values() {
     .unwrap();
     settle(&mut e);
     let hit = e.trajectory().events[0].t;
-    let s = e.trajectory().state(0, hit, StateSide::After);
+    let s = e.trajectory().state(0, hit, Side::Post);
     assert!((s.v - post).norm() < 1e-8, "{:?} after the bounce", s.v);
 
     // Refused: nothing changes.
@@ -524,7 +524,7 @@ fn an_upright_constraint_brings_the_z_axis_vertical() {
     let r0 = rows_match_central_differences(&e, 0);
     assert!(r0.norm() > 0.1, "tilted to begin with");
     settle(&mut e);
-    let st = e.trajectory().state(0, 0.5, StateSide::After);
+    let st = e.trajectory().state(0, 0.5, Side::Post);
     let tilt = (st.q * Vec3::z()).z.clamp(-1.0, 1.0).acos();
     assert!(tilt < 1e-6, "tilt {tilt:.2e} rad");
 }
@@ -540,7 +540,7 @@ fn a_steady_constraint_leaves_only_spin_about_the_vertical() {
     let r0 = rows_match_central_differences(&e, 0);
     assert!(r0.norm() > 0.5, "tumbling to begin with: {r0}");
     settle(&mut e);
-    let w = e.trajectory().state(0, 0.5, StateSide::After).w;
+    let w = e.trajectory().state(0, 0.5, Side::Post).w;
     assert!(w.xy().norm() < 1e-8, "still tumbling: ω = {w}");
     assert!(
         w.z.abs() > 0.1,

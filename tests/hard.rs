@@ -9,7 +9,7 @@ use nudge::controls::Controls;
 use nudge::geometry::PartKind;
 use nudge::math::Vec3;
 use nudge::scene::Scene;
-use nudge::sim::{SimError, SimOptions, StateSide, Trajectory, simulate};
+use nudge::sim::{Side, SimError, SimOptions, Trajectory, simulate};
 use std::path::Path;
 
 fn load(name: &str) -> Scene {
@@ -58,7 +58,7 @@ fn points(scene: &Scene, b: usize) -> Vec<(Vec3, f64)> {
 /// height above the floor, for a floor): sampled at `n` times and just
 /// before and after every event.
 fn lowest_over_run(scene: &Scene, tr: &Trajectory, n: usize) -> f64 {
-    let gap = |b: usize, t: f64, side: StateSide| {
+    let gap = |b: usize, t: f64, side: Side| {
         let s = tr.state(b, t, side);
         let pose = nalgebra::Isometry3::from_parts(nalgebra::Translation3::from(s.x), s.q);
         scene
@@ -79,16 +79,10 @@ fn lowest_over_run(scene: &Scene, tr: &Trajectory, n: usize) -> f64 {
     let mut low = f64::INFINITY;
     for b in 0..scene.bodies.len() {
         for k in 0..=n {
-            low = low.min(gap(
-                b,
-                scene.duration * k as f64 / n as f64,
-                StateSide::After,
-            ));
+            low = low.min(gap(b, scene.duration * k as f64 / n as f64, Side::Post));
         }
         for e in tr.body_events(b) {
-            low = low
-                .min(gap(b, e.t, StateSide::Before))
-                .min(gap(b, e.t, StateSide::After));
+            low = low.min(gap(b, e.t, Side::Pre)).min(gap(b, e.t, Side::Post));
         }
     }
     low
@@ -243,7 +237,7 @@ fn regression_rest_froze_a_falling_body_against_a_wall() {
             .any(|e| e.b == nudge::sim::Party::Obstacle(1)),
         "it touches the wall"
     );
-    let end = tr.state(0, s.duration, StateSide::After);
+    let end = tr.state(0, s.duration, Side::Post);
     assert!(
         (end.x.z - 0.05).abs() < 1e-4,
         "the box ends on the floor, not at z = {:.4}",
@@ -267,7 +261,7 @@ fn regression_a_rocking_box_chattered_or_froze_on_an_edge() {
         .expect("the box settles into a slide");
     assert!(tr.events.len() < 2000, "{} events", tr.events.len());
     assert!(lowest_over_run(&s, &tr, 400) > -SKIN);
-    let last = tr.state(0, s.duration, StateSide::After);
+    let last = tr.state(0, s.duration, Side::Post);
     assert!(
         (last.x.z - 0.04).abs() < 1e-4,
         "lying on its 0.08 m face: z = {}",
@@ -286,7 +280,7 @@ fn regression_a_rocking_box_chattered_or_froze_on_an_edge() {
     // distance covered while it rocks).
     let s = load("rocking-box-friction.toml");
     let tr = run_ok(&s);
-    let last = tr.state(0, s.duration, StateSide::After);
+    let last = tr.state(0, s.duration, Side::Post);
     assert!(
         last.v.norm() == 0.0 && last.w.norm() == 0.0,
         "at rest: {:?} {:?}",
@@ -399,10 +393,10 @@ fn assert_finite(tr: &Trajectory, what: &str) {
         for k in 0..=50 {
             let t = tr.duration * k as f64 / 50.0;
             assert!(
-                tr.state(b, t, StateSide::After).is_finite(),
+                tr.state(b, t, Side::Post).is_finite(),
                 "{what}: state at {t}"
             );
-            match tr.jacobian(b, t, StateSide::After) {
+            match tr.jacobian(b, t, Side::Post) {
                 Ok(j) => assert!(j.iter().all(|v| v.is_finite()), "{what}: J at {t}"),
                 Err(nudge::sim::TangentError::Grazing { .. }) => {}
                 Err(e) => panic!("{what}: {e}"),
@@ -445,12 +439,12 @@ fn graze_sweep(
                         Some(nudge::sim::TangentError::Grazing { .. })
                     ));
                     assert!(
-                        tr.jacobian(0, e.t, StateSide::After).is_err()
-                            && (e.t == 0.0 || tr.jacobian(0, 0.5 * e.t, StateSide::After).is_ok()),
+                        tr.jacobian(0, e.t, Side::Post).is_err()
+                            && (e.t == 0.0 || tr.jacobian(0, 0.5 * e.t, Side::Post).is_ok()),
                         "{x:e}: {:?} {:?} {:?}",
                         tr.tangent_error,
-                        tr.jacobian(0, e.t, StateSide::After).err(),
-                        tr.jacobian(0, 0.5 * e.t, StateSide::After).err()
+                        tr.jacobian(0, e.t, Side::Post).err(),
+                        tr.jacobian(0, 0.5 * e.t, Side::Post).err()
                     );
                 }
                 (e.graze_ratio, e.grazing, dt)
@@ -538,12 +532,12 @@ fn regression_a_grazing_contact_blocked_the_jacobians_of_bodies_it_never_touched
         "the contact is grazing: ratio {}",
         graze.graze_ratio
     );
-    assert!(tr.jacobian(0, 0.9, StateSide::After).is_err());
+    assert!(tr.jacobian(0, 0.9, Side::Post).is_err());
     // The bystander's Jacobian after the graze: its own position and
     // velocity columns are exactly [I, tI; 0, I] (free flight), the
     // grazer's columns zero.
     let j = tr
-        .jacobian(1, 0.9, StateSide::After)
+        .jacobian(1, 0.9, Side::Post)
         .unwrap_or_else(|e| panic!("the bystander keeps its Jacobian: {e}"));
     let mut want = nalgebra::DMatrix::<f64>::zeros(12, 12);
     for k in 0..3 {
@@ -566,12 +560,9 @@ fn regression_a_grazing_contact_blocked_the_jacobians_of_bodies_it_never_touched
         .find(|e| e.b == nudge::sim::Party::Body(1))
         .expect("the grazer strikes the bystander");
     assert!(hit.t > graze.t, "{} after {}", hit.t, graze.t);
-    assert!(
-        tr.jacobian(1, 0.5 * (graze.t + hit.t), StateSide::After)
-            .is_ok()
-    );
-    assert!(tr.jacobian(1, hit.t, StateSide::After).is_err());
-    assert!(tr.jacobian(1, 0.95, StateSide::After).is_err());
+    assert!(tr.jacobian(1, 0.5 * (graze.t + hit.t), Side::Post).is_ok());
+    assert!(tr.jacobian(1, hit.t, Side::Post).is_err());
+    assert!(tr.jacobian(1, 0.95, Side::Post).is_err());
 }
 
 #[test]
@@ -586,7 +577,7 @@ fn grazing_contact_makes_the_solver_and_editor_fall_back_to_sampling() {
     let controls = Controls::new(&s);
     let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
     assert!(tr.events[0].grazing);
-    let x = tr.state(0, 0.8, StateSide::After).x;
+    let x = tr.state(0, 0.8, Side::Post).x;
     let drag = Constraint {
         body: 0,
         anchor: Anchor::Time(0.8),
@@ -664,7 +655,7 @@ fn zeno_bouncing_ends_at_rest_at_the_series_limit() {
         assert!(tr.events[rest].t <= limit);
         let low = lowest_over_run(&s, &tr, 20_000);
         assert!(low >= -1e-9, "e={e}: height {low:.3e}");
-        let end = tr.state(0, s.duration, StateSide::After);
+        let end = tr.state(0, s.duration, Side::Post);
         assert!(end.v == Vec3::zeros() && (end.x.z - 0.1).abs() < 1e-9);
         eprintln!(
             "zeno e={e}: {} bounces, rest at {:.9} s, series limit {limit:.9} s (rest-time error {:.1e}), lowest {low:.1e} m",
@@ -783,7 +774,7 @@ fn a_three_ball_cradle_conserves_momentum_and_does_not_gain_energy() {
             let tr = run_ok(&s);
             let m: Vec<f64> = tr.dynamics.iter().map(|d| d.mass).collect();
             let at = |t: f64| -> (f64, f64) {
-                let st: Vec<_> = (0..3).map(|b| tr.state(b, t, StateSide::After)).collect();
+                let st: Vec<_> = (0..3).map(|b| tr.state(b, t, Side::Post)).collect();
                 (
                     (0..3).map(|b| m[b] * st[b].v.x).sum(),
                     (0..3).map(|b| kinetic(&tr, b, &st[b])).sum(),
@@ -811,9 +802,7 @@ fn a_three_ball_cradle_conserves_momentum_and_does_not_gain_energy() {
                 );
             }
             let v: Vec<f64> = (0..3)
-                .map(|b| {
-                    tr.state(b, s.duration, StateSide::After).v.x * if mirror { -1.0 } else { 1.0 }
-                })
+                .map(|b| tr.state(b, s.duration, Side::Post).v.x * if mirror { -1.0 } else { 1.0 })
                 .collect();
             if e == 1.0 {
                 // Newton's cradle: one ball leaves with all the momentum.
@@ -866,12 +855,9 @@ fn fast_bodies_do_not_tunnel_through_a_thin_wall_or_each_other_at_any_step() {
         let tr = run_ok(&s);
         times.push([first(&tr, 0), first(&tr, 1), first(&tr, 2)]);
         // Nobody ends past the wall or the other ball.
-        assert!(tr.state(0, s.duration, StateSide::After).x.x < 0.0);
-        assert!(tr.state(1, s.duration, StateSide::After).x.x < 0.0);
-        assert!(
-            tr.state(2, s.duration, StateSide::After).x.x
-                < tr.state(3, s.duration, StateSide::After).x.x
-        );
+        assert!(tr.state(0, s.duration, Side::Post).x.x < 0.0);
+        assert!(tr.state(1, s.duration, Side::Post).x.x < 0.0);
+        assert!(tr.state(2, s.duration, Side::Post).x.x < tr.state(3, s.duration, Side::Post).x.x);
     }
     // The three RK4 steps agree to round-off; the adaptive run's rotation
     // differs at its own tolerance.
@@ -930,7 +916,7 @@ fn a_hundred_revolutions_at_constant_spin_match_the_analytic_rotation() {
         for k in 0..=200 {
             let t = s.duration * k as f64 / 200.0;
             let exact = nudge::math::exp_so3(&(w * t)) * q0;
-            worst = worst.max(angle(&tr.state(0, t, StateSide::After).q, &exact));
+            worst = worst.max(angle(&tr.state(0, t, Side::Post).q, &exact));
         }
         assert!(
             worst < 1e-9,
@@ -953,7 +939,7 @@ fn an_orientation_control_pushed_past_pi_is_reparameterised_and_follows_the_nudg
     let mut crossed = 0;
     let mut prev = e.scene().bodies[0].orientation;
     for k in 0..10 {
-        let target = nudge::math::exp_so3(&step) * e.trajectory().state(0, 0.0, StateSide::After).q;
+        let target = nudge::math::exp_so3(&step) * e.trajectory().state(0, 0.0, Side::Post).q;
         e.apply(Edit::Nudge {
             quantity: StateQuantity::Orientation,
             delta: step,
@@ -969,7 +955,7 @@ fn an_orientation_control_pushed_past_pi_is_reparameterised_and_follows_the_nudg
             crossed += 1;
         }
         prev = r;
-        let got = e.trajectory().state(0, 0.0, StateSide::After).q;
+        let got = e.trajectory().state(0, 0.0, Side::Post).q;
         assert!(
             angle(&got, &target) < 1e-6,
             "nudge {k}: off by {:.2e} rad",
@@ -1001,8 +987,8 @@ fn the_jacobian_matches_finite_differences_across_the_exponential_map_switch() {
                 mask[3..6].iter().all(|c| *c),
                 "orientation columns comparable at {t}"
             );
-            let jt = tr.jacobian(0, t, StateSide::After).unwrap();
-            let err = max_relative_error(&jt, &fd.at(0, t, StateSide::After), &mask, 1e-3);
+            let jt = tr.jacobian(0, t, Side::Post).unwrap();
+            let err = max_relative_error(&jt, &fd.at(0, t, Side::Post), &mask, 1e-3);
             worst = worst.max(err);
         }
         assert!(worst < 1e-6, "|r| = {len}: tangent vs FD {worst:.2e}");
@@ -1054,7 +1040,7 @@ fn a_t_handle_flips_about_its_intermediate_axis_and_not_the_others() {
         let tr = run_ok(&s);
         let d = &tr.dynamics[0];
         let invariants = |t: f64| {
-            let st = tr.state(0, t, StateSide::After);
+            let st = tr.state(0, t, Side::Post);
             let r = *st.q.to_rotation_matrix().matrix();
             let l = r * d.inertia * r.transpose() * st.w;
             (0.5 * st.w.dot(&l), l.norm(), (st.q * axes).inverse() * st.w)
@@ -1160,7 +1146,7 @@ fn a_chaotic_horizon_is_reported_ill_conditioned_and_the_residual_never_rises() 
     let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
     let growth: Vec<(f64, f64)> = (1..=18)
         .map(|k| 0.5 * k as f64)
-        .map(|t| (t, tr.jacobian(0, t, StateSide::After).unwrap().norm().ln()))
+        .map(|t| (t, tr.jacobian(0, t, Side::Post).unwrap().norm().ln()))
         .collect();
     assert!(
         growth.windows(2).all(|w| w[1].1 >= w[0].1 - 1e-9),
@@ -1180,7 +1166,7 @@ fn a_chaotic_horizon_is_reported_ill_conditioned_and_the_residual_never_rises() 
     );
     let horizon = s.duration;
     let mut traj = tr;
-    let st = traj.state(0, horizon, StateSide::After);
+    let st = traj.state(0, horizon, Side::Post);
     let target = vec![st.x.x + 1e-3, st.x.y, st.x.z, st.v.x, st.v.y, st.v.z];
     let nail = Constraint {
         body: 0,
@@ -1259,7 +1245,7 @@ fn a_chaotic_horizon_is_reported_ill_conditioned_and_the_residual_never_rises() 
 fn full_condition(s: &Scene, t: f64) -> f64 {
     let controls = Controls::new(s);
     let tr = simulate(s, &controls, &SimOptions::default()).unwrap();
-    let j = tr.jacobian(0, t, StateSide::After).unwrap();
+    let j = tr.jacobian(0, t, Side::Post).unwrap();
     let mut c = nalgebra::DMatrix::zeros(6, j.ncols());
     c.rows_mut(0, 3).copy_from(&j.rows(0, 3));
     c.rows_mut(3, 3).copy_from(&j.rows(6, 3));
@@ -1283,7 +1269,7 @@ fn a_chaotic_horizon_is_reported_as_ill_conditioned() {
     let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
     for t in [3.0, 6.0, 9.0] {
         assert!(full_condition(&s, t) > 1e10);
-        let st = tr.state(0, t, StateSide::After);
+        let st = tr.state(0, t, Side::Post);
         let target = vec![st.x.x + 1e-3, st.x.y, st.x.z, st.v.x, st.v.y, st.v.z];
         let nail = Constraint {
             body: 0,
@@ -1328,7 +1314,7 @@ fn duplicated_nails_converge_conflicting_nails_give_least_squares_and_unreachabl
     let mut tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
     let t = 0.5;
     assert!(tr.events.iter().filter(|e| e.t < t).count() >= 1);
-    let st = tr.state(0, t, StateSide::After);
+    let st = tr.state(0, t, Side::Post);
     let r = st.orientation_vector();
     let all = vec![
         StateQuantity::Position,
@@ -1385,7 +1371,7 @@ fn duplicated_nails_converge_conflicting_nails_give_least_squares_and_unreachabl
     // Conflicting: three nails on the position at the corners of a triangle.
     let s = load("tumbling-box.toml");
     let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
-    let x = tr.state(0, t, StateSide::After).x;
+    let x = tr.state(0, t, Side::Post).x;
     let corners = [
         Vec3::new(0.03, 0.0, 0.0),
         Vec3::new(-0.015, 0.026, 0.0),
@@ -1497,8 +1483,8 @@ fn extreme_mass_ratios_conserve_momentum_and_keep_exact_jacobians() {
         let t = 0.4;
         let mask = fd.comparable_until(t);
         for b in 0..2 {
-            let jt = tr.jacobian(b, t, StateSide::After).unwrap();
-            let err = max_relative_error(&jt, &fd.at(b, t, StateSide::After), &mask, 1e-3);
+            let jt = tr.jacobian(b, t, Side::Post).unwrap();
+            let err = max_relative_error(&jt, &fd.at(b, t, Side::Post), &mask, 1e-3);
             assert!(err < 1e-6, "{m1}/{m2} body {b}: tangent vs FD {err:.2e}");
         }
     }
@@ -1535,7 +1521,7 @@ fn regression_a_near_singular_inertia_blew_up_after_its_first_impact() {
         };
         let b = 2;
         let d = &tr.dynamics[b];
-        let inv = |t: f64, side: StateSide| {
+        let inv = |t: f64, side: Side| {
             let st = tr.state(b, t, side);
             assert!(st.is_finite(), "at {t}");
             let r = *st.q.to_rotation_matrix().matrix();
@@ -1551,12 +1537,12 @@ fn regression_a_near_singular_inertia_blew_up_after_its_first_impact() {
             if w[1] - w[0] < 1e-9 {
                 continue;
             }
-            let (e0, l0) = inv(w[0], StateSide::After);
+            let (e0, l0) = inv(w[0], Side::Post);
             if e0 == 0.0 {
                 continue; // at rest
             }
             for k in 1..=20 {
-                let (e, l) = inv(w[0] + (w[1] - w[0]) * k as f64 / 21.0, StateSide::After);
+                let (e, l) = inv(w[0] + (w[1] - w[0]) * k as f64 / 21.0, Side::Post);
                 let dd = ((e - e0) / e0).abs().max(((l - l0) / l0).abs());
                 worst = worst.max(dd);
             }
@@ -2106,7 +2092,7 @@ fn regression_a_plank_lying_across_two_supports_never_came_to_rest() {
         "the landing is a patch impact: {}",
         tr.events[0].key
     );
-    let end = tr.state(0, s.duration, StateSide::After);
+    let end = tr.state(0, s.duration, Side::Post);
     let yaw = (end.q * Vec3::x()).y.atan2((end.q * Vec3::x()).x);
     assert!(
         end.x.y.abs() < 2e-3 && yaw.abs() < 5e-3,
@@ -2143,7 +2129,7 @@ fn regression_a_ladder_held_by_friction_chattered_against_the_wall() {
             .any(|e| e.b == nudge::sim::Party::Obstacle(1)),
         "it leans on the wall"
     );
-    let end = tr.state(0, s.duration, StateSide::After);
+    let end = tr.state(0, s.duration, Side::Post);
     let tilt = (end.q * Vec3::x()).z.asin().to_degrees();
     assert!(
         (tilt - 60.0).abs() < 1.0 && end.v == Vec3::zeros(),
@@ -2154,7 +2140,7 @@ fn regression_a_ladder_held_by_friction_chattered_against_the_wall() {
     let mut s = s;
     s.effects.friction = false;
     let tr = run_ok(&s);
-    let end = tr.state(0, s.duration, StateSide::After);
+    let end = tr.state(0, s.duration, Side::Post);
     // Lying on the floor, to within the support band in which a slide
     // starts (10 v_r² / g = 0.4 mm).
     assert!(

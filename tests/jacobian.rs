@@ -4,7 +4,7 @@ use nudge::controls::Controls;
 use nudge::geometry::Geometry;
 use nudge::math::Vec3;
 use nudge::scene::{Block, Body, Effects, EventControl, Scene};
-use nudge::sim::{SimOptions, StateSide, simulate};
+use nudge::sim::{Side, SimOptions, simulate};
 use nudge::tangent::{FiniteDifference, Scheme, max_relative_error};
 use nudge::testkit::{self, body, body_with_inertia, ground, obstacle};
 
@@ -28,8 +28,8 @@ fn check(scene: &Scene, times: &[f64], tol: f64) -> f64 {
     let mut worst: f64 = 0.0;
     for b in 0..scene.bodies.len() {
         for &t in times {
-            let jt = tr.jacobian(b, t, StateSide::After).expect("jacobian");
-            let jf = fd.at(b, t, StateSide::After);
+            let jt = tr.jacobian(b, t, Side::Post).expect("jacobian");
+            let jf = fd.at(b, t, Side::Post);
             let err = max_relative_error(&jt, &jf, &fd.comparable, 1e-3);
             assert!(
                 err < tol,
@@ -40,7 +40,7 @@ fn check(scene: &Scene, times: &[f64], tol: f64) -> f64 {
     }
     for (k, ev) in tr.events.iter().enumerate() {
         // Floating quantities: the state at each run's own event time.
-        for side in [StateSide::Before, StateSide::After] {
+        for side in [Side::Pre, Side::Post] {
             let fl = fd.at_event(k, ev.a, side).expect("same events");
             let jt = tr
                 .jacobian_at_event(ev.a, ev, side)
@@ -111,7 +111,7 @@ fn fd_agreement(
 ) -> Option<f64> {
     let quotients: Vec<(Vec<bool>, nalgebra::DMatrix<f64>)> = runs
         .iter()
-        .map(|fd| (fd.comparable_until(t), fd.at(body, t, StateSide::After)))
+        .map(|fd| (fd.comparable_until(t), fd.at(body, t, Side::Post)))
         .collect();
     let rel = |a: nalgebra::DVectorView<f64>, b: nalgebra::DVectorView<f64>| {
         (a - b).norm() / b.norm().max(1e-3)
@@ -151,7 +151,7 @@ fn check_resolved(scene: &Scene, times: &[f64], tol: f64) {
     let runs = fd_runs(&scene, &controls);
     for b in 0..scene.bodies.len() {
         for &t in times {
-            let jt = tr.jacobian(b, t, StateSide::After).expect("jacobian");
+            let jt = tr.jacobian(b, t, Side::Post).expect("jacobian");
             let err = fd_agreement(&runs, &jt, b, t).expect("comparable columns");
             assert!(err < tol, "body {b} t={t}: relative error {err:.2e}");
         }
@@ -161,7 +161,7 @@ fn check_resolved(scene: &Scene, times: &[f64], tol: f64) {
     };
     let (mut checked, mut total) = (0, 0);
     for (k, ev) in tr.events.iter().enumerate() {
-        for side in [StateSide::Before, StateSide::After] {
+        for side in [Side::Pre, Side::Post] {
             let jt = tr
                 .jacobian_at_event(ev.a, ev, side)
                 .expect("jacobian and dt/du");
@@ -316,8 +316,8 @@ fn adaptive_tangent_of_a_steady_spin_is_error_controlled() {
     let controls = Controls::new(&s);
     let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
     let fd = FiniteDifference::new(&fine, &controls, Scheme::Central).unwrap();
-    let jt = tr.jacobian(0, 1.0, StateSide::After).unwrap();
-    let jf = fd.at(0, 1.0, StateSide::After);
+    let jt = tr.jacobian(0, 1.0, Side::Post).unwrap();
+    let jf = fd.at(0, 1.0, Side::Post);
     let err = max_relative_error(&jt, &jf, &fd.comparable, 1e-3);
     assert!(
         err < 1e-5,
@@ -437,7 +437,7 @@ fn particle_on_a_parabola_matches_the_closed_form_derivative() {
     s.accuracy.root_tol = 1e-14;
     let tr = simulate(&s, &Controls::new(&s), &SimOptions::default()).unwrap();
     assert_eq!(tr.events.len(), 1, "one bounce");
-    let j = tr.jacobian(0, tf, StateSide::After).unwrap();
+    let j = tr.jacobian(0, tf, Side::Post).unwrap();
 
     // Closed form. u = (x0, z0, vx0, vz0) ↔ columns (0, 2, 3, 5).
     let phi = |t: f64| (z0 + vz0 * t - 0.5 * g * t * t) + kappa * (x0 + vx0 * t).powi(2);
@@ -510,10 +510,10 @@ fn finite_difference_error_is_v_shaped_in_the_step() {
     s.bodies.push(b);
     let controls = Controls::new(&s);
     let tr = simulate(&s, &controls, &SimOptions::default()).unwrap();
-    let jt = tr.jacobian(0, 1.0, StateSide::After).unwrap();
+    let jt = tr.jacobian(0, 1.0, Side::Post).unwrap();
     let err = |h: f64| {
         let fd = FiniteDifference::with_steps(&s, &controls, Scheme::Central, Some(h)).unwrap();
-        max_relative_error(&jt, &fd.at(0, 1.0, StateSide::After), &fd.comparable, 1e-3)
+        max_relative_error(&jt, &fd.at(0, 1.0, Side::Post), &fd.comparable, 1e-3)
     };
     let steps = [1e-1, 1e-2, 1e-3, 1e-5, 1e-11, 1e-13];
     let e: Vec<f64> = steps.iter().map(|&h| err(h)).collect();
@@ -562,7 +562,7 @@ fn every_scene_jacobian_matches_finite_differences() {
         for frac in [0.2, 0.5, 0.9] {
             let t = frac * horizon;
             for b in 0..s.bodies.len() {
-                let jt = tr.jacobian(b, t, StateSide::After).unwrap();
+                let jt = tr.jacobian(b, t, Side::Post).unwrap();
                 if let Some(err) = fd_agreement(&runs, &jt, b, t) {
                     assert!(
                         err < 1e-6,
@@ -600,7 +600,7 @@ proptest::proptest! {
         let horizon = tr.tangent_error.map_or(1.0, |e| e.time());
         let runs = fd_runs(&s, &controls);
         for t in [0.3 * horizon, 0.95 * horizon] {
-            let jt = tr.jacobian(0, t, StateSide::After).unwrap();
+            let jt = tr.jacobian(0, t, Side::Post).unwrap();
             let err = fd_agreement(&runs, &jt, 0, t).unwrap_or(0.0);
             proptest::prop_assert!(err < 1e-6, "t={} err={:.2e}", t, err);
         }
@@ -764,7 +764,7 @@ fn rotation_tangents_are_integrated_only_where_a_control_reaches_them() {
         plain.counters.gyroscopic.get(),
         "rotation ODE evaluations, tangent vs plain"
     );
-    let j = tr.jacobian(0, 0.6, StateSide::After).expect("jacobian");
+    let j = tr.jacobian(0, 0.6, Side::Post).expect("jacobian");
     let rot = j
         .rows(3, 3)
         .iter()

@@ -3,7 +3,7 @@
 use nudge::controls::Controls;
 use nudge::geometry::Geometry;
 use nudge::math::Vec3;
-use nudge::sim::{SimOptions, StateSide, simulate};
+use nudge::sim::{Side, SimOptions, simulate};
 use nudge::testkit::{self, body, body_with_inertia, ground, obstacle};
 
 fn run(scene: &nudge::scene::Scene) -> nudge::sim::Trajectory {
@@ -23,7 +23,7 @@ fn ballistic_flight_matches_the_closed_form() {
     s.bodies.push(b);
     let tr = run(&s);
     for t in [0.0, 0.37, 1.0, 2.0] {
-        let st = tr.state(0, t, StateSide::After);
+        let st = tr.state(0, t, Side::Post);
         let exact = Vec3::new(t, -2.0 * t, 10.0 + 3.0 * t - 0.5 * 9.81 * t * t);
         assert!((st.x - exact).norm() < 1e-12, "t={t}");
         assert!((st.v - Vec3::new(1.0, -2.0, 3.0 - 9.81 * t)).norm() < 1e-12);
@@ -69,7 +69,7 @@ fn bouncing_ball_follows_the_geometric_series_and_rests_on_time() {
         (rest_time - total).abs() < 1e-6,
         "rest at {rest_time}, series limit {total}"
     );
-    let end = tr.state(0, 6.0, StateSide::After);
+    let end = tr.state(0, 6.0, Side::Post);
     assert!(end.x.z > r - 1e-9 && end.v.norm() == 0.0);
 }
 
@@ -100,7 +100,7 @@ fn torque_free_symmetric_top_matches_analytic_precession() {
         let tr = run(&s);
         let omega = (i3 - i1) / i1 * w0.z;
         for t in [0.5, 2.0, 5.0] {
-            let st = tr.state(0, t, StateSide::After);
+            let st = tr.state(0, t, Side::Post);
             let wb = st.q.inverse() * st.w;
             let exact = Vec3::new(0.3 * (omega * t).cos(), 0.3 * (omega * t).sin(), 2.0);
             assert!(
@@ -136,7 +136,7 @@ fn asymmetric_body_conserves_energy_and_momentum_over_100_s() {
     s.accuracy.method = nudge::scene::Method::Rk4 { step: 1e-3 };
     let tr = run(&s);
     let energy = |t: f64| {
-        let st = tr.state(0, t, StateSide::After);
+        let st = tr.state(0, t, Side::Post);
         let wb = st.q.inverse() * st.w;
         (
             0.5 * wb.component_mul(&inertia).dot(&wb),
@@ -316,10 +316,7 @@ fn absent_effects_are_never_evaluated_and_zero_coefficients_are_bit_identical() 
     for other in [&with_zero_drag, &isotropic_gyro] {
         assert_eq!(other.events.len(), plain.events.len());
         for t in [0.0, 0.31, 0.77, 1.5] {
-            let (a, b) = (
-                plain.state(0, t, StateSide::After),
-                other.state(0, t, StateSide::After),
-            );
+            let (a, b) = (plain.state(0, t, Side::Post), other.state(0, t, Side::Post));
             assert_eq!(a.x.map(f64::to_bits), b.x.map(f64::to_bits), "t={t}");
             assert_eq!(a.v.map(f64::to_bits), b.v.map(f64::to_bits), "t={t}");
             assert_eq!(
@@ -482,17 +479,14 @@ fn a_run_stopped_early_is_a_prefix_of_the_whole_run() {
         assert_eq!((a.t, &a.key), (b.t, &b.key));
     }
     for t in [0.1, 0.45, 0.8, stop] {
-        let (sa, sb) = (
-            part.state(0, t, StateSide::After),
-            whole.state(0, t, StateSide::After),
-        );
+        let (sa, sb) = (part.state(0, t, Side::Post), whole.state(0, t, Side::Post));
         assert!(
             (sa.x - sb.x).norm() < 1e-12 && (sa.w - sb.w).norm() < 1e-12,
             "t = {t}"
         );
         let (ja, jb) = (
-            part.jacobian(0, t, StateSide::After).unwrap(),
-            whole.jacobian(0, t, StateSide::After).unwrap(),
+            part.jacobian(0, t, Side::Post).unwrap(),
+            whole.jacobian(0, t, Side::Post).unwrap(),
         );
         assert!((ja - jb).norm() < 1e-9, "t = {t}");
     }
@@ -715,13 +709,10 @@ fn a_frictionless_sphere_leaves_every_impact_without_spin() {
         let tr = simulate(&scene, &controls, &SimOptions::default()).expect("simulates");
         assert!(!tr.events.is_empty(), "radius {radius}: it hits the hill");
         for e in &tr.events {
-            let after = tr.state(0, e.t, StateSide::After);
+            let after = tr.state(0, e.t, Side::Post);
             assert_eq!(after.w, Vec3::zeros(), "radius {radius}, event at {}", e.t);
         }
-        assert_eq!(
-            tr.state(0, scene.duration, StateSide::After).w,
-            Vec3::zeros()
-        );
+        assert_eq!(tr.state(0, scene.duration, Side::Post).w, Vec3::zeros());
     }
     // Two balls meeting off-centre, and a ball on a tilted floor.
     let mut s = testkit::scene(1.0);
@@ -747,11 +738,7 @@ fn a_frictionless_sphere_leaves_every_impact_without_spin() {
     assert!(tr.events.iter().any(|e| between(&e)), "the balls meet");
     assert!(tr.events.len() >= 2, "{} events", tr.events.len());
     for i in 0..2 {
-        assert_eq!(
-            tr.state(i, 1.0, StateSide::After).w,
-            Vec3::zeros(),
-            "body {i}"
-        );
+        assert_eq!(tr.state(i, 1.0, Side::Post).w, Vec3::zeros(), "body {i}");
     }
 }
 
@@ -781,8 +768,8 @@ fn the_integration_error_estimate_tracks_the_true_error() {
         tight.accuracy.method = nudge::scene::Method::Rk4 { step: 1e-3 / 16.0 };
         let reference = run(&tight);
         let d = nudge::tangent::state_difference(
-            &reference.state(0, 10.0, StateSide::After),
-            &tr.state(0, 10.0, StateSide::After),
+            &reference.state(0, 10.0, Side::Post),
+            &tr.state(0, 10.0, Side::Post),
         );
         for q in [1, 3] {
             let truth = d.fixed_rows::<3>(3 * q).norm();

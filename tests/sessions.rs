@@ -11,7 +11,7 @@
 //! motion in a debug and a release build.
 
 use nudge::controls::Controls;
-use nudge::sim::{SimOptions, StateSide, simulate};
+use nudge::sim::{Side, SimOptions, simulate};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -311,7 +311,7 @@ fn mug_is_upright_at_its_fourth_bounce_and_stops_spinning_there() {
     };
     let traj = run_on(&scene);
     let fourth = traj.body_events(0)[3].t;
-    let pre = tilt(traj.state(0, fourth, StateSide::Before).q);
+    let pre = tilt(traj.state(0, fourth, Side::Pre).q);
     assert!(
         pre < 5.0,
         "the mug is tilted {pre:.2}° at its 4th collision (t = {fourth:.4} s)"
@@ -320,7 +320,7 @@ fn mug_is_upright_at_its_fourth_bounce_and_stops_spinning_there() {
         (fourth - r["events"][3]["t"].as_f64().expect("t")).abs() < 1e-9,
         "the saved scene does not reproduce the session"
     );
-    let w = traj.state(0, fourth, StateSide::After).w;
+    let w = traj.state(0, fourth, Side::Post).w;
     assert!(
         w.norm() < 0.1,
         "the mug spins at {:.3} rad/s after its 4th collision: ω = {w}",
@@ -330,7 +330,7 @@ fn mug_is_upright_at_its_fourth_bounce_and_stops_spinning_there() {
     // has fallen over.
     let end = 2.0;
     scene.duration = end;
-    let edited = tilt(run_on(&scene).state(0, end, StateSide::After).q);
+    let edited = tilt(run_on(&scene).state(0, end, Side::Post).q);
     assert!(
         edited < 5.0,
         "the edited mug is tilted {edited:.1}° at t = {end} s"
@@ -338,7 +338,7 @@ fn mug_is_upright_at_its_fourth_bounce_and_stops_spinning_there() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut before = nudge::scene::load(&root.join("scenes/mug.toml")).expect("mug");
     before.duration = end;
-    let fallen = tilt(run_on(&before).state(0, end, StateSide::After).q);
+    let fallen = tilt(run_on(&before).state(0, end, Side::Post).q);
     assert!(
         fallen > 45.0,
         "the unedited mug should tip over, but is tilted {fallen:.1}° at t = {end} s"
@@ -423,11 +423,7 @@ fn scissors_bounce_misses(report: &Value, scene: &nudge::scene::Scene) -> Vec<St
     let n = 4000;
     let dt = (landing - bounce) / n as f64;
     let at = |k: usize| {
-        let side = if k == n {
-            StateSide::Before
-        } else {
-            StateSide::After
-        };
+        let side = if k == n { Side::Pre } else { Side::Post };
         traj.state(0, bounce + dt * k as f64, side)
     };
     let mut turn = nalgebra::Vector3::zeros();

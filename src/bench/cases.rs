@@ -3,7 +3,7 @@
 
 use crate::controls::Controls;
 use crate::scene::{Accuracy, Method, Scene, load_str};
-use crate::sim::{SimOptions, StateSide, Trajectory, simulate};
+use crate::sim::{Side, SimOptions, Trajectory, simulate};
 use crate::testkit;
 use std::time::Instant;
 
@@ -268,11 +268,8 @@ pub(crate) fn final_state_error(a: &Trajectory, b: &Trajectory) -> f64 {
     let t = a.duration.min(b.duration);
     (0..a.tracks.len().min(b.tracks.len()))
         .map(|i| {
-            crate::tangent::state_difference(
-                &b.state(i, t, StateSide::After),
-                &a.state(i, t, StateSide::After),
-            )
-            .norm()
+            crate::tangent::state_difference(&b.state(i, t, Side::Post), &a.state(i, t, Side::Post))
+                .norm()
         })
         .fold(0.0, |m: f64, v| {
             if v.is_nan() || m.is_nan() {

@@ -11,7 +11,7 @@
 use super::cases::signature_until;
 use crate::controls::Controls;
 use crate::scene::Scene;
-use crate::sim::{SimError, SimOptions, StateSide, TangentError, Trajectory, simulate};
+use crate::sim::{Side, SimError, SimOptions, TangentError, Trajectory, simulate};
 use crate::tangent::{Scheme, max_relative_error, state_difference};
 use nalgebra::{DMatrix, DVector};
 
@@ -21,7 +21,7 @@ pub(crate) fn stacked(traj: &Trajectory, t: f64) -> Result<DMatrix<f64>, Tangent
     let mut j = DMatrix::zeros(12 * n, traj.m);
     for b in 0..n {
         j.rows_mut(12 * b, 12)
-            .copy_from(&traj.jacobian(b, t, StateSide::After)?);
+            .copy_from(&traj.jacobian(b, t, Side::Post)?);
     }
     Ok(j)
 }
@@ -87,10 +87,10 @@ impl FdRuns {
         let mut comparable = Vec::with_capacity(self.cols.len());
         for (c, (h, plus, minus)) in self.cols.iter().enumerate() {
             for b in 0..n {
-                let sp = plus.state(b, t, StateSide::After);
+                let sp = plus.state(b, t, Side::Post);
                 let col = match minus {
-                    Some(m) => state_difference(&m.state(b, t, StateSide::After), &sp) / (2.0 * h),
-                    None => state_difference(&self.nominal.state(b, t, StateSide::After), &sp) / *h,
+                    Some(m) => state_difference(&m.state(b, t, Side::Post), &sp) / (2.0 * h),
+                    None => state_difference(&self.nominal.state(b, t, Side::Post), &sp) / *h,
                 };
                 j.view_mut((12 * b, c), (12, 1)).copy_from(&col);
             }

@@ -13,7 +13,7 @@ use super::measure::{Plan, Timing, guarded, measure};
 use super::plot::{Series, loglog};
 use super::table::{Align, Table, csv_field, ms, sci};
 use crate::scene::{Accuracy, Method, StateQuantity};
-use crate::sim::{SimOptions, StateSide, Trajectory, simulate};
+use crate::sim::{Side, SimOptions, Trajectory, simulate};
 use crate::solve::{Anchor, Constraint, Kind, UpdateOptions, update};
 use std::io::{self, Write};
 use std::path::Path;
@@ -135,7 +135,7 @@ pub(crate) fn settings(quick: bool, default: Accuracy) -> Vec<(Accuracy, bool)> 
 
 /// A drag of body 0 at `t` by `DRAG_OFFSET` in x and z from where it is.
 pub(crate) fn drag(traj: &Trajectory, t: f64) -> Constraint {
-    let x = traj.state(0, t, StateSide::After).x;
+    let x = traj.state(0, t, Side::Post).x;
     Constraint {
         body: 0,
         anchor: Anchor::Time(t),

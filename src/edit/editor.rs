@@ -8,7 +8,7 @@ use crate::files::{WriteError, WriteMode};
 use crate::math::{Vec3, exp_so3, log_so3};
 use crate::report::{self, ConstraintRow};
 use crate::scene::{self, ConstraintKind, ConstraintSpec, EventControl, Scene, StateQuantity};
-use crate::sim::{Party, SimOptions, StateSide, Trajectory, simulate};
+use crate::sim::{Party, SimOptions, Trajectory, simulate};
 use crate::solve::{self, Anchor, Constraint, Diagnostic, Kind, UpdateOptions};
 use crate::view::{self, View};
 use nalgebra::{Isometry3, Point3, Translation3};
@@ -325,7 +325,7 @@ impl Editor {
     }
 
     fn body_lines(&self, i: usize) -> Vec<(Vec3, Vec3)> {
-        let s = self.traj.state(i, self.time, StateSide::After);
+        let s = self.traj.state(i, self.time, Side::Post);
         let iso = Isometry3::from_parts(Translation3::from(s.x), s.q);
         self.scene.bodies[i]
             .geometry
@@ -411,7 +411,7 @@ impl Editor {
                 self.scene.bodies[self.selected].name, self.scene.bodies[self.selected].name
             )));
         }
-        let s = self.traj.state(self.selected, self.time, StateSide::After);
+        let s = self.traj.state(self.selected, self.time, Side::Post);
         let target: Vec3 = match quantity {
             StateQuantity::Position => s.x + delta,
             StateQuantity::Orientation => log_so3(&(exp_so3(&delta) * s.q)),

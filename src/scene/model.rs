@@ -498,13 +498,15 @@ impl ConstraintKind {
     }
 }
 
-/// Which side of an impulse a floating constraint refers to.
+/// Which side of an impulse: a floating constraint's, and a state query's
+/// at an event time (the one `Side` of the code: `sim` and `edit` use it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Side {
-    /// Just before the impulse.
+    /// Just before the impulse: the limit from before.
     Pre,
-    /// Just after the impulse.
+    /// Just after the impulse: the limit from after, and the value at any
+    /// time that is not an event's.
     Post,
 }
 

@@ -6,7 +6,7 @@ use super::events::{Pair, Tolerances, World};
 use super::impulse::{FrictionMode, ImpulseCtx, PartyCtx};
 use super::integrator::{self, Step};
 use super::rest::{self, Mode, Slide};
-use super::state::{BodyState, StateSide};
+use super::state::{BodyState, Side};
 use super::trajectory::{Counters, Event, Party, Segment, TangentError, Track, Trajectory};
 use crate::controls::Controls;
 use crate::geometry::{Corner, FeaturePair, PartKind, PatchCorner};
@@ -428,7 +428,7 @@ impl Sim<'_> {
             }
         }
         for (i, b) in self.scene.bodies.iter().enumerate() {
-            if !self.traj.state(i, duration, StateSide::After).is_finite() {
+            if !self.traj.state(i, duration, Side::Post).is_finite() {
                 return Err(SimError::NonFinite {
                     body: b.name.clone(),
                     t: duration,

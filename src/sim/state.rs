@@ -51,12 +51,7 @@ impl BodyState {
     }
 }
 
-/// Which side of an impulse a query refers to when the time is exactly an
-/// event time.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum StateSide {
-    /// The limit from before (pre-impulse).
-    Before,
-    /// The limit from after (post-impulse); also the value at any other time.
-    After,
-}
+/// Which side of an impulse a state query refers to when the time is
+/// exactly an event time: the scene's one [`Side`] (`Post` is also the
+/// value at any other time).
+pub use crate::scene::Side;

@@ -6,7 +6,7 @@ use super::flight::translation;
 use super::impulse::FrictionMode;
 use super::integrator::{Step, body_rate, tangent_block};
 use super::rest::Slide;
-use super::state::{BodyState, StateSide};
+use super::state::{BodyState, Side};
 use crate::geometry::FeaturePair;
 use crate::math::{Mat3, Vec3, exp_so3, left_jacobian, skew};
 use nalgebra::{DMatrix, DVector};
@@ -177,10 +177,10 @@ impl Trajectory {
             .sum()
     }
 
-    fn segment_index(&self, body: usize, t: f64, side: StateSide) -> usize {
+    fn segment_index(&self, body: usize, t: f64, side: Side) -> usize {
         let segs = &self.tracks[body].segments;
         let mut i = segs.partition_point(|s| s.t0 <= t).saturating_sub(1);
-        if side == StateSide::Before && i > 0 && segs[i].t0 == t {
+        if side == Side::Pre && i > 0 && segs[i].t0 == t {
             i -= 1;
         }
         i
@@ -269,7 +269,7 @@ impl Trajectory {
 
     /// State of `body` at time `t` (at an event time, `side` picks the
     /// pre- or post-impulse limit).
-    pub fn state(&self, body: usize, t: f64, side: StateSide) -> BodyState {
+    pub fn state(&self, body: usize, t: f64, side: Side) -> BodyState {
         let i = self.segment_index(body, t, side);
         self.rotation(body, &self.tracks[body].segments[i], t, false)
             .0
@@ -288,12 +288,7 @@ impl Trajectory {
 
     /// Jacobian `∂q(t)/∂u` of `body` (12 × m, rows `δx, δθ, δv, δω` with
     /// `δθ` a world-frame rotation), exact to integrator accuracy.
-    pub fn jacobian(
-        &self,
-        body: usize,
-        t: f64,
-        side: StateSide,
-    ) -> Result<DMatrix<f64>, TangentError> {
+    pub fn jacobian(&self, body: usize, t: f64, side: Side) -> Result<DMatrix<f64>, TangentError> {
         self.jacobian_available(body, t)?;
         let i = self.segment_index(body, t, side);
         let seg = &self.tracks[body].segments[i];
@@ -314,7 +309,7 @@ impl Trajectory {
         &self,
         body: usize,
         event: &Event,
-        side: StateSide,
+        side: Side,
     ) -> Result<DMatrix<f64>, TangentError> {
         let j = self.jacobian(body, event.t, side)?;
         let lost = self.tangent_lost.get(body).copied().flatten();
@@ -446,13 +441,13 @@ impl Trajectory {
     }
 
     /// Whether `body` rests at time `t`.
-    pub fn resting(&self, body: usize, t: f64, side: StateSide) -> bool {
+    pub fn resting(&self, body: usize, t: f64, side: Side) -> bool {
         let i = self.segment_index(body, t, side);
         self.tracks[body].segments[i].rest
     }
 
     /// The slide `body` follows at time `t`, if any.
-    pub fn slide(&self, body: usize, t: f64, side: StateSide) -> Option<Slide> {
+    pub fn slide(&self, body: usize, t: f64, side: Side) -> Option<Slide> {
         let i = self.segment_index(body, t, side);
         self.tracks[body].segments[i].slide
     }
@@ -460,7 +455,7 @@ impl Trajectory {
     /// Whether `body` leans on obstacle `o` at time `t` (resting on
     /// anything, or sliding on `o`): the pair needs no event search.
     pub fn supported_by(&self, body: usize, t: f64, o: usize) -> bool {
-        let seg = &self.tracks[body].segments[self.segment_index(body, t, StateSide::After)];
+        let seg = &self.tracks[body].segments[self.segment_index(body, t, Side::Post)];
         seg.rest || seg.slide.is_some_and(|s| s.obstacle == o)
     }
 
@@ -518,7 +513,7 @@ impl Trajectory {
         times.dedup();
         times
             .into_iter()
-            .map(|t| (t, self.state(body, t, StateSide::After).point(point)))
+            .map(|t| (t, self.state(body, t, Side::Post).point(point)))
             .collect()
     }
 }

@@ -1,7 +1,7 @@
 use crate::math::{Vec3, log_so3, right_jacobian_inv, skew};
 use crate::scene::Side;
 use crate::scene::StateQuantity;
-use crate::sim::{BodyState, StateSide, TangentError, Trajectory};
+use crate::sim::{BodyState, TangentError, Trajectory};
 use nalgebra::{DMatrix, DVector, Matrix3};
 
 /// When a constraint is evaluated.
@@ -148,9 +148,9 @@ impl Constraint {
     ) -> Result<Eval, ConstraintError> {
         match self.anchor {
             Anchor::Time(t) => {
-                let state = traj.state(body, t, StateSide::After);
+                let state = traj.state(body, t, Side::Post);
                 let jac = if with_jac {
-                    Some(traj.jacobian(body, t, StateSide::After)?)
+                    Some(traj.jacobian(body, t, Side::Post)?)
                 } else {
                     None
                 };
@@ -164,13 +164,9 @@ impl Constraint {
                     have: events.len(),
                     want: collision,
                 })?;
-                let s = match side {
-                    Side::Pre => StateSide::Before,
-                    Side::Post => StateSide::After,
-                };
-                let state = traj.state(body, e.t, s);
+                let state = traj.state(body, e.t, side);
                 let jac = if with_jac {
-                    Some(traj.jacobian_at_event(body, e, s)?)
+                    Some(traj.jacobian_at_event(body, e, side)?)
                 } else {
                     None
                 };

@@ -629,7 +629,7 @@ mod tests {
             traj.events.iter().all(|e| e.t > t),
             "no collision before the drag yet"
         );
-        let z = traj.state(0, t, crate::sim::StateSide::After).x.z;
+        let z = traj.state(0, t, crate::sim::Side::Post).x.z;
         // Drag the ball 0.2 m down at t: the full linear step starts it so
         // low that it bounces before t.
         let drag = Constraint {
@@ -740,7 +740,7 @@ mod tests {
         let controls = Controls::new(&scene);
         let traj = simulate(&scene, &controls, &SimOptions::default()).expect("simulates");
         let t = traj.events[0].t + 0.2;
-        let z = traj.state(0, t, crate::sim::StateSide::After).x.z;
+        let z = traj.state(0, t, crate::sim::Side::Post).x.z;
         // Twice as high as restitution 1 could take it.
         let nail = Constraint {
             body: 0,

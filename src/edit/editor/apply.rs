@@ -57,7 +57,7 @@ impl Editor {
                 } else {
                     quantities
                 };
-                let s = self.traj.state(self.selected, self.time, StateSide::After);
+                let s = self.traj.state(self.selected, self.time, Side::Post);
                 let target = targets(&s, &quantities, &exact)?;
                 self.constraints.push(Constraint {
                     body: self.selected,
@@ -83,15 +83,7 @@ impl Editor {
                     ))
                 })?;
                 let e = &self.traj.events[global];
-                let s = self.traj.state(
-                    self.selected,
-                    e.t,
-                    if side == Side::Pre {
-                        StateSide::Before
-                    } else {
-                        StateSide::After
-                    },
-                );
+                let s = self.traj.state(self.selected, e.t, side);
                 let target = targets(&s, &quantities, &exact)?;
                 self.constraints.push(Constraint {
                     body: self.selected,

@@ -6,7 +6,7 @@ use super::planes::{FacePlane, Heights, TurningPlane, first_cross};
 use super::{Pair, World};
 use crate::geometry::{Contact, Geometry};
 use crate::math::Vec3;
-use crate::sim::state::{BodyState, StateSide};
+use crate::sim::state::{BodyState, Side};
 use crate::sim::trajectory::Party;
 use nalgebra::Isometry3;
 use smallvec::SmallVec;
@@ -21,7 +21,7 @@ impl World<'_, '_> {
 
     pub(super) fn state(&self, p: Party, t: f64) -> Option<BodyState> {
         match p {
-            Party::Body(i) => Some(self.traj.state(i, t, StateSide::After)),
+            Party::Body(i) => Some(self.traj.state(i, t, Side::Post)),
             Party::Obstacle(_) => None,
         }
     }
@@ -66,7 +66,7 @@ impl World<'_, '_> {
     /// `(ω_max, α_max)` of an integrated body (see [`World::bounds`]).
     pub(super) fn spin_bounds(&self, i: usize, s: &BodyState, t: f64) -> (f64, f64) {
         let d = &self.traj.dynamics[i];
-        let Some(slide) = self.traj.slide(i, t, StateSide::After) else {
+        let Some(slide) = self.traj.slide(i, t, Side::Post) else {
             // Torque-free: the exact extremes of its motion.
             return d.spin_envelope(s);
         };
@@ -125,7 +125,7 @@ impl World<'_, '_> {
     /// sliding): its acceleration is bounded by `|g|` plus this.
     pub(super) fn slide_decel(&self, body: usize, t: f64) -> f64 {
         self.traj
-            .slide(body, t, StateSide::After)
+            .slide(body, t, Side::Post)
             .map_or(0.0, |s| s.decel)
     }
 
@@ -147,7 +147,7 @@ impl World<'_, '_> {
         }
         let g = self.traj.gravity;
         let drag = d.drag_k.unwrap_or(0.0) * (s.v.norm() + g.norm());
-        let (exact, rem) = match self.traj.slide(i, t, StateSide::After) {
+        let (exact, rem) = match self.traj.slide(i, t, Side::Post) {
             Some(sl) => (-frame_g, sl.accel.norm() + sl.decel + drag),
             None => (g - frame_g, drag),
         };

@@ -5,7 +5,7 @@
 use super::{Pair, Tolerances, World};
 use crate::geometry::{Contact, PartContacts, Placement};
 use crate::math::Vec3;
-use crate::sim::state::{BodyState, StateSide};
+use crate::sim::state::{BodyState, Side};
 use crate::sim::trajectory::{Counters, Party};
 
 impl World<'_, '_> {
@@ -83,8 +83,8 @@ impl World<'_, '_> {
 
     /// Axis-aligned box containing body `i` over `[t0, t1]`.
     pub fn sweep_box(&self, i: usize, t0: f64, t1: f64) -> (Vec3, Vec3) {
-        let a = self.traj.state(i, t0, StateSide::After);
-        let b = self.traj.state(i, t1, StateSide::After);
+        let a = self.traj.state(i, t0, Side::Post);
+        let b = self.traj.state(i, t1, Side::Post);
         let dt = t1 - t0;
         let d = &self.traj.dynamics[i];
         let g = self.traj.gravity.norm();

@@ -46,9 +46,9 @@ impl Sim<'_> {
         self.searched[k] = None;
         let scene = self.scene;
         let a = pair.a;
-        let sa = self.traj.state(a, tc, StateSide::After);
+        let sa = self.traj.state(a, tc, Side::Post);
         let sb = match pair.b {
-            Party::Body(j) => Some(self.traj.state(j, tc, StateSide::After)),
+            Party::Body(j) => Some(self.traj.state(j, tc, Side::Post)),
             Party::Obstacle(_) => None,
         };
         let (gb, pose_b, e_b, mu_b) = match pair.b {

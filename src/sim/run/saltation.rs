@@ -30,7 +30,7 @@ impl Sim<'_> {
         jpre.rows_mut(0, 12).copy_from(
             &self
                 .traj
-                .jacobian(a, tc, StateSide::After)
+                .jacobian(a, tc, Side::Post)
                 .map_err(|e| (e, f64::NAN))?,
         );
         let mut fpre = DVector::zeros(ns);
@@ -50,7 +50,7 @@ impl Sim<'_> {
             jpre.rows_mut(12, 12).copy_from(
                 &self
                     .traj
-                    .jacobian(j, tc, StateSide::After)
+                    .jacobian(j, tc, Side::Post)
                     .map_err(|e| (e, f64::NAN))?,
             );
             fpre.rows_mut(12, 12)

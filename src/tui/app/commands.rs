@@ -109,7 +109,7 @@ impl App {
             let at = nearest
                 .map(|(k, e)| format!(" at its collision #{k} (event {})", e.index))
                 .unwrap_or_default();
-            let side = if side == Side::Pre { "pre" } else { "post" };
+            let side = side.word();
             let hint = settle_hint(typed, &core.view());
             self.say_info(format!("floating {names} of {body}{at} ({side}){hint}"));
         }
