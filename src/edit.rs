@@ -7,7 +7,7 @@ pub use editor::{Editor, MAX_SETTLE_UPDATES};
 
 pub use crate::files::WriteMode;
 use crate::math::Vec3;
-use crate::scene::{Accuracy, Block, StateQuantity};
+use crate::scene::{Accuracy, Block, ScaleKind, StateQuantity};
 use crate::view::View;
 use std::path::{Path, PathBuf};
 
@@ -110,7 +110,7 @@ pub enum Edit {
     },
     /// Change the scale (diagonal of M) of a kind of control: a block name,
     /// `normal` or `restitution`.
-    SetScale { kind: String, value: f64 },
+    SetScale { kind: ScaleKind, value: f64 },
     /// Change the accuracy settings.
     SetAccuracy(Accuracy),
     /// Iterate updates until the constraints are met or progress stalls,

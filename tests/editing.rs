@@ -390,7 +390,7 @@ fn non_finite_edits_are_rejected_and_leave_history_untouched() {
         },
         Edit::SelectTime(f64::NAN),
         Edit::SetScale {
-            kind: "velocity".into(),
+            kind: nudge::scene::ScaleKind::Velocity,
             value: f64::NAN,
         },
         Edit::Expression(Expression::AngularSpeed { value: f64::NAN }),

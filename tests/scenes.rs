@@ -432,7 +432,7 @@ fn editor_edits_keep_every_comment_and_untouched_line_of_every_scene() {
         });
         assert_eq!(added.is_ok(), has_events, "{what}: {added:?}");
         e.apply(Edit::SetScale {
-            kind: "velocity".into(),
+            kind: nudge::scene::ScaleKind::Velocity,
             value: 2.0,
         })
         .unwrap_or_else(|err| panic!("{what}: {err}"));

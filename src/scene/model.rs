@@ -357,6 +357,90 @@ pub struct Scales {
     pub restitution: f64,
 }
 
+/// A kind of control, as far as its scale goes (a field of [`Scales`]);
+/// parsed once from the scene file or the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ScaleKind {
+    Position,
+    Orientation,
+    Velocity,
+    AngularVelocity,
+    Mass,
+    Inertia,
+    Normal,
+    Restitution,
+}
+
+impl ScaleKind {
+    pub const ALL: [ScaleKind; 8] = [
+        ScaleKind::Position,
+        ScaleKind::Orientation,
+        ScaleKind::Velocity,
+        ScaleKind::AngularVelocity,
+        ScaleKind::Mass,
+        ScaleKind::Inertia,
+        ScaleKind::Normal,
+        ScaleKind::Restitution,
+    ];
+
+    /// The word the scene file and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            ScaleKind::Position => "position",
+            ScaleKind::Orientation => "orientation",
+            ScaleKind::Velocity => "velocity",
+            ScaleKind::AngularVelocity => "angular_velocity",
+            ScaleKind::Mass => "mass",
+            ScaleKind::Inertia => "inertia",
+            ScaleKind::Normal => "normal",
+            ScaleKind::Restitution => "restitution",
+        }
+    }
+
+    /// The kind named `word`, if any.
+    pub fn parse(word: &str) -> Option<ScaleKind> {
+        ScaleKind::ALL.into_iter().find(|k| k.name() == word)
+    }
+}
+
+impl Scales {
+    /// The scale of `kind`'s controls.
+    pub fn get(&self, kind: ScaleKind) -> f64 {
+        *self.field(kind)
+    }
+
+    /// Set the scale of `kind`'s controls.
+    pub fn set(&mut self, kind: ScaleKind, value: f64) {
+        *self.field_mut(kind) = value;
+    }
+
+    fn field(&self, kind: ScaleKind) -> &f64 {
+        match kind {
+            ScaleKind::Position => &self.position,
+            ScaleKind::Orientation => &self.orientation,
+            ScaleKind::Velocity => &self.velocity,
+            ScaleKind::AngularVelocity => &self.angular_velocity,
+            ScaleKind::Mass => &self.mass,
+            ScaleKind::Inertia => &self.inertia,
+            ScaleKind::Normal => &self.normal,
+            ScaleKind::Restitution => &self.restitution,
+        }
+    }
+
+    fn field_mut(&mut self, kind: ScaleKind) -> &mut f64 {
+        match kind {
+            ScaleKind::Position => &mut self.position,
+            ScaleKind::Orientation => &mut self.orientation,
+            ScaleKind::Velocity => &mut self.velocity,
+            ScaleKind::AngularVelocity => &mut self.angular_velocity,
+            ScaleKind::Mass => &mut self.mass,
+            ScaleKind::Inertia => &mut self.inertia,
+            ScaleKind::Normal => &mut self.normal,
+            ScaleKind::Restitution => &mut self.restitution,
+        }
+    }
+}
+
 impl Default for Scales {
     fn default() -> Self {
         Scales {

@@ -4,7 +4,7 @@
 
 use crate::edit::{Side, Vertical};
 use crate::math::Vec3;
-use crate::scene::{Block, StateQuantity};
+use crate::scene::{Block, ScaleKind, StateQuantity};
 use std::path::PathBuf;
 
 /// Integrator choice for `:set method`.
@@ -46,7 +46,7 @@ pub enum Command {
     SetRootTol(f64),
     /// `:set scale KIND X`.
     SetScale {
-        kind: String,
+        kind: ScaleKind,
         value: f64,
     },
     /// `:set nudge X`: nudge step of the current mode.
@@ -124,18 +124,6 @@ impl std::error::Error for CommandError {}
 pub const SETTLE_MS: u64 = 500;
 /// Largest `:settle` budget, ms.
 pub const MAX_SETTLE_MS: u64 = 60_000;
-
-/// The kinds `:set scale` accepts.
-pub const SCALE_KINDS: &[&str] = &[
-    "position",
-    "orientation",
-    "velocity",
-    "angular_velocity",
-    "mass",
-    "inertia",
-    "normal",
-    "restitution",
-];
 
 struct Words<'a> {
     words: Vec<&'a str>,
@@ -332,19 +320,17 @@ pub fn parse(line: &str) -> Result<Command, CommandError> {
                     _ => return Err(w.err(2, "unknown method; expected rk4 or adaptive")),
                 },
                 "scale" => {
-                    let kind = w.need(2, "kind of control")?;
-                    if !SCALE_KINDS.contains(&kind) {
+                    let word = w.need(2, "kind of control")?;
+                    let Some(kind) = ScaleKind::parse(word) else {
+                        let names = ScaleKind::ALL.map(ScaleKind::name);
                         return Err(w.err(
                             2,
-                            format!("unknown kind; expected one of {}", SCALE_KINDS.join(", ")),
+                            format!("unknown kind; expected one of {}", names.join(", ")),
                         ));
-                    }
+                    };
                     let value = w.positive(3, "scale")?;
                     w.no_more(4)?;
-                    return Ok(Command::SetScale {
-                        kind: kind.to_string(),
-                        value,
-                    });
+                    return Ok(Command::SetScale { kind, value });
                 }
                 _ => {
                     return Err(w.err(
@@ -589,7 +575,7 @@ mod tests {
         assert_eq!(
             parse("set scale velocity 2"),
             Ok(Command::SetScale {
-                kind: "velocity".into(),
+                kind: ScaleKind::Velocity,
                 value: 2.0
             })
         );

@@ -264,22 +264,7 @@ impl Editor {
                         "scale must be a finite number > 0, got {value}"
                     )));
                 }
-                let s = &mut self.scene.scales;
-                match kind.as_str() {
-                    "position" => s.position = value,
-                    "orientation" => s.orientation = value,
-                    "velocity" => s.velocity = value,
-                    "angular_velocity" => s.angular_velocity = value,
-                    "mass" => s.mass = value,
-                    "inertia" => s.inertia = value,
-                    "normal" => s.normal = value,
-                    "restitution" => s.restitution = value,
-                    other => {
-                        return Err(invalid(format!(
-                            "unknown scale {other:?}: use position, orientation, velocity, angular_velocity, mass, inertia, normal or restitution"
-                        )));
-                    }
-                }
+                self.scene.scales.set(kind, value);
                 self.rebuild()?;
             }
             Edit::SetAccuracy(acc) => {

@@ -9,7 +9,7 @@ use super::source::{Bound, Source, Table, Value, as_table, numbers, suggestion};
 use crate::geometry::contact;
 use crate::math::Vec3;
 use crate::scene::model::{
-    Accuracy, Effect, Effects, EventControl, MAX_EVENTS, Method, Scales, Scene,
+    Accuracy, Effect, Effects, EventControl, MAX_EVENTS, Method, ScaleKind, Scales, Scene,
 };
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -271,29 +271,14 @@ fn scales(top: &Table<'_, '_>) -> Result<Scales, SceneError> {
     let Some(t) = section(top, "scales")? else {
         return Ok(Scales::default());
     };
-    let keys = [
-        "position",
-        "orientation",
-        "velocity",
-        "angular_velocity",
-        "mass",
-        "inertia",
-        "normal",
-        "restitution",
-    ];
+    let keys = ScaleKind::ALL.map(ScaleKind::name);
     t.allow_only(&keys)?;
     let hint = "give a scale greater than 0 (larger means change this less; default 1)";
-    let s = |key: &str| t.number_or(key, 1.0, Bound::Positive, hint);
-    Ok(Scales {
-        position: s("position")?,
-        orientation: s("orientation")?,
-        velocity: s("velocity")?,
-        angular_velocity: s("angular_velocity")?,
-        mass: s("mass")?,
-        inertia: s("inertia")?,
-        normal: s("normal")?,
-        restitution: s("restitution")?,
-    })
+    let mut scales = Scales::default();
+    for kind in ScaleKind::ALL {
+        scales.set(kind, t.number_or(kind.name(), 1.0, Bound::Positive, hint)?);
+    }
+    Ok(scales)
 }
 
 fn unique_names(
