@@ -145,7 +145,7 @@ pub enum EditError {
     ReadOnly(PathBuf),
     /// A new constraint's target is so far from the motion that the
     /// distance to it is not a finite number.
-    #[error("that target is too far away to measure: give values within about 1e150 of the body")]
+    #[error("target too far away to measure: give values within about 1e150 of the body")]
     TargetOutOfRange,
 }
 
