@@ -107,3 +107,39 @@ fn a_missing_citation_is_found() {
         .collect();
     assert_eq!(found, ["docs/no-such-guide.md", "scenes/nope.toml"]);
 }
+
+/// Every `docs/design.md §N` the code cites names a section of it.
+#[test]
+fn every_design_section_the_code_cites_exists() {
+    let design = std::fs::read_to_string(Path::new(ROOT).join("docs/design.md")).expect("design");
+    let mut sources = Vec::new();
+    files(&Path::new(ROOT).join("src"), "rs", &mut sources);
+    files(&Path::new(ROOT).join("tests"), "rs", &mut sources);
+    let mut cited_sections = 0;
+    let mut missing = Vec::new();
+    for f in &sources {
+        let text = std::fs::read_to_string(f).expect("source");
+        for part in text.split("docs/design.md §").skip(1) {
+            // `§3–§5` cites 3 to 5.
+            let numbers: Vec<u32> = part
+                .split(|c: char| !(c.is_ascii_digit() || c == '–' || c == '§'))
+                .next()
+                .unwrap_or("")
+                .split(['–', '§'])
+                .filter_map(|n| n.parse().ok())
+                .collect();
+            for n in numbers {
+                cited_sections += 1;
+                if !design.contains(&format!("\n## {n}. ")) {
+                    missing.push(format!("{}: §{n}", f.display()));
+                }
+            }
+        }
+    }
+    assert!(cited_sections >= 10, "{cited_sections} citations");
+    assert!(
+        missing.is_empty(),
+        "sections cited but missing:\n{}",
+        missing.join("\n")
+    );
+}
