@@ -59,11 +59,24 @@ pub fn guard() -> io::Result<()> {
                 std::process::exit(128 + signal);
             }
         })?;
+    // The terminal crossterm reads: standard input when it is one (its
+    // other end closing is what a dropped connection looks like), else
+    // /dev/tty. A closed pipe on standard input is not the terminal going.
+    let stdin = rustix::stdio::stdin();
+    let tty: Option<std::fs::File> = if rustix::termios::isatty(stdin) {
+        None
+    } else {
+        std::fs::File::open("/dev/tty").ok()
+    };
     std::thread::Builder::new()
         .name("nudge-terminal-watch".into())
-        .spawn(|| {
+        .spawn(move || {
             loop {
-                if terminal_gone() {
+                let gone = match &tty {
+                    Some(f) => hung_up(f),
+                    None => hung_up(rustix::stdio::stdin()),
+                };
+                if gone {
                     std::process::exit(128 + SIGHUP);
                 }
                 std::thread::sleep(WATCH);
@@ -72,11 +85,9 @@ pub fn guard() -> io::Result<()> {
     Ok(())
 }
 
-/// Whether standard input (the terminal) has hung up: its other end was
-/// closed.
-fn terminal_gone() -> bool {
-    let stdin = rustix::stdio::stdin();
-    let mut fds = [PollFd::new(&stdin, PollFlags::empty())];
+/// Whether the terminal `fd` has hung up: its other end was closed.
+fn hung_up(fd: impl std::os::fd::AsFd) -> bool {
+    let mut fds = [PollFd::new(&fd, PollFlags::empty())];
     match poll(&mut fds, Some(&ZERO)) {
         Ok(_) => fds[0]
             .revents()
