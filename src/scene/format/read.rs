@@ -75,7 +75,9 @@ pub(super) fn scene(src: &Source<'_>, doc: &Spanned<DeTable<'_>>) -> Result<Scen
             "describe the scene and its intended edit as a string",
         )?
         .unwrap_or("")
-        .to_string();
+        // A multi-line string in a CRLF file keeps its CRs: the notes are
+        // the same text whatever the file's line endings.
+        .replace("\r\n", "\n");
     let duration_hint = "give the simulated time span in s, e.g. duration = 3.0";
     let duration = t.required(
         "duration",

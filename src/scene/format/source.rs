@@ -389,10 +389,22 @@ impl<'a, 'i> Table<'a, 'i> {
         };
         match v.get_ref() {
             DeValue::String(s) => {
-                // Line breaks and tabs belong in notes; nowhere else do
-                // control or invisible characters.
-                let allowed = |c: char| key == "notes" && matches!(c, '\n' | '\t');
-                if let Some(c) = s.chars().find(|&c| hidden(c) && !allowed(c)) {
+                // Line breaks (LF, or CRLF in a file with CRLF line endings,
+                // as a multi-line string keeps them) and tabs belong in
+                // notes; nowhere else do control or invisible characters.
+                let allowed = |c: char, next: Option<char>| {
+                    key == "notes"
+                        && (matches!(c, '\n' | '\t') || (c == '\r' && next == Some('\n')))
+                };
+                let mut chars = s.chars().peekable();
+                let mut found = None;
+                while let Some(c) = chars.next() {
+                    if hidden(c) && !allowed(c, chars.peek().copied()) {
+                        found = Some(c);
+                        break;
+                    }
+                }
+                if let Some(c) = found {
                     return Err(self.src.error_at(
                         &v.span(),
                         &format!(

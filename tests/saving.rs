@@ -1,0 +1,150 @@
+//! Saving keeps the file what it was, seen from the scene's side: a scene
+//! written with a byte-order mark and CRLF line endings saves back byte for
+//! byte, keeps both through edits, and a read-only scene is refused until
+//! forced. (The file-level cases, links, permissions and special files,
+//! are `nudge::files`'s unit tests.)
+use nudge::files::WriteMode;
+use nudge::scene::{SceneError, load, load_str, save};
+use std::path::PathBuf;
+
+/// A fresh directory for one test.
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("nudge-saving-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// The shipped scenes, sorted.
+fn shipped() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir("scenes")
+        .expect("scenes/")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// Every shipped scene, rewritten with a byte-order mark, with CRLF line
+/// endings and with both, saves back unedited as the same bytes.
+#[test]
+fn a_bom_and_crlf_scene_saves_back_byte_for_byte() {
+    let d = dir("roundtrip");
+    for path in shipped() {
+        let plain = std::fs::read_to_string(&path).expect("readable");
+        let crlf = plain.replace('\n', "\r\n");
+        for (how, text) in [
+            ("bom", format!("\u{feff}{plain}")),
+            ("crlf", crlf.clone()),
+            ("bom+crlf", format!("\u{feff}{crlf}")),
+        ] {
+            let file = d.join(path.file_name().expect("name"));
+            std::fs::write(&file, &text).expect("write");
+            let scene = load(&file).unwrap_or_else(|e| panic!("{how} {}: {e}", path.display()));
+            let unkept = save(&scene, &file, WriteMode::Normal)
+                .unwrap_or_else(|e| panic!("{how} {}: {e}", path.display()));
+            assert_eq!(unkept, None, "{how} {}: layout kept", path.display());
+            let back = std::fs::read(&file).expect("read back");
+            assert!(
+                back == text.as_bytes(),
+                "{how} {}: saved differently:\n{}",
+                path.display(),
+                String::from_utf8_lossy(&back).escape_debug()
+            );
+            let again = load(&file).expect("loads back");
+            assert_eq!(again.notes, scene.notes, "{how} {}", path.display());
+        }
+    }
+    std::fs::remove_dir_all(&d).expect("cleaned up");
+}
+
+/// Multi-line notes in a CRLF file keep their CRs in the TOML string: they
+/// load as the same notes as the LF file's, and save back byte for byte
+/// (a lone CR, written `\r`, which would overwrite a line on the terminal,
+/// is refused).
+#[test]
+fn multi_line_notes_in_a_crlf_file_load_and_save_back() {
+    let d = dir("notes");
+    let plain = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
+    let (head, tail) = plain.split_once("\nnotes = ").expect("bounce has notes");
+    let (_, rest) = tail.split_once('\n').expect("notes is one line");
+    let lf = format!(
+        "{head}\nnotes = \"\"\"\nA ball dropped on a floor.\n\nDrag a bounce apex.\"\"\"\n{rest}"
+    );
+    let crlf = lf.replace('\n', "\r\n");
+    let a = load_str(&lf, "lf.toml").unwrap_or_else(|e| panic!("{e}"));
+    let b = load_str(&crlf, "crlf.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(a.notes, "A ball dropped on a floor.\n\nDrag a bounce apex.");
+    assert_eq!(b.notes, a.notes);
+    let file = d.join("bounce.toml");
+    std::fs::write(&file, &crlf).expect("write");
+    let scene = load(&file).expect("loads");
+    save(&scene, &file, WriteMode::Normal).expect("saved");
+    assert!(std::fs::read(&file).expect("read back") == crlf.as_bytes());
+    // Written as new text (no source to keep), the notes still load back.
+    let fresh = nudge::scene::to_toml(&scene);
+    assert_eq!(load_str(&fresh, "new.toml").expect("loads").notes, a.notes);
+    let lone = lf.replace("floor.\n\nDrag", "floor.\\rDrag");
+    match load_str(&lone, "cr.toml") {
+        Err(SceneError::Invalid(m)) => assert!(
+            m.contains("notes contains the invisible or control character U+000D"),
+            "{m}"
+        ),
+        Ok(_) => panic!("a lone CR in notes loaded"),
+    }
+    std::fs::remove_dir_all(&d).expect("cleaned up");
+}
+
+/// Saving keeps the file what it was: a scene written with a byte-order
+/// mark and CRLF line endings keeps both through an edit and `:w`, and a
+/// read-only scene is refused (the message names `:w!`) until forced.
+#[test]
+fn saving_keeps_the_files_line_endings_bom_and_read_only_flag() {
+    use nudge::edit::{Core, Edit, EditError, Editor};
+    use std::os::unix::fs::PermissionsExt;
+    let dir = std::env::temp_dir().join(format!("nudge-save-kinds-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let plain = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
+    let crlf = format!("\u{feff}{}", plain.replace('\n', "\r\n"));
+    let file = dir.join("bounce.toml");
+    std::fs::write(&file, &crlf).expect("write");
+    let scene = load(&file).expect("a BOM and CRLF load");
+    let mut e = Editor::new(scene, Some(file.clone())).expect("editor");
+    e.apply(Edit::SelectTime(0.5)).expect("time");
+    e.apply(Edit::Nail {
+        quantities: vec![nudge::scene::StateQuantity::Position],
+        exact: vec![],
+    })
+    .expect("nail");
+    e.save(None, WriteMode::Normal).expect("saved");
+    let saved = std::fs::read(&file).expect("read back");
+    let text = String::from_utf8(saved).expect("UTF-8");
+    assert!(text.starts_with('\u{feff}'), "the BOM is kept");
+    assert!(
+        !text.replace("\r\n", "").contains('\n'),
+        "every line ends in CRLF"
+    );
+    assert!(text.contains("[[constraint]]\r\nkind = \"nail\""), "{text}");
+    let back = load(&file).expect("loads back");
+    assert_eq!(back.constraints.len(), 1);
+
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o444)).expect("chmod");
+    e.apply(Edit::RemoveConstraint(0)).expect("delete");
+    let refused = e.save(None, WriteMode::Normal);
+    assert_eq!(refused, Err(EditError::ReadOnly(file.clone())));
+    assert_eq!(
+        refused.err().map(|e| e.to_string()),
+        Some(format!(
+            "{} is read-only: :w! writes it anyway",
+            file.display()
+        ))
+    );
+    assert_eq!(load(&file).expect("unchanged").constraints.len(), 1);
+    e.save(None, WriteMode::Force).expect("forced");
+    assert_eq!(load(&file).expect("written").constraints.len(), 0);
+    let mode = std::fs::metadata(&file).expect("stat").permissions().mode() & 0o777;
+    assert_eq!(mode, 0o444, "still read-only");
+    assert!(!e.dirty());
+}
