@@ -1,6 +1,8 @@
 //! Writing a file the user named so that it stays the file it was: the
 //! text is written atomically (a temporary file beside it, flushed, then
-//! renamed over it), but
+//! renamed over it; the temporary file is created exclusively, never
+//! through a link another user planted, and readable only by the user
+//! until it takes the original's mode), but
 //!
 //! - a symlink is followed and its target written (the link stays a link);
 //! - the original's permission bits are kept, and its owner and group
@@ -144,6 +146,56 @@ pub fn write_text(path: &Path, text: &str, mode: WriteMode) -> Result<(), WriteE
     }
 }
 
+/// Temporary names tried beside the target before giving up (others may
+/// be left by a crash, or planted).
+const TEMP_TRIES: u32 = 100;
+
+/// A new temporary file beside `target`, created exclusively (never
+/// through a link or over an existing file) and private (0600) until its
+/// mode is set, so a private scene's text is never readable by others.
+fn create_temp(target: &Path, private: bool) -> io::Result<(File, PathBuf)> {
+    use std::os::unix::fs::OpenOptionsExt;
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let pid = std::process::id();
+    let mut last = None;
+    for k in 0..TEMP_TRIES {
+        let tmp = target.with_file_name(format!(".{name}.nudge-{pid}-{k}.tmp"));
+        match fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .mode(if private { 0o600 } else { 0o666 })
+            .open(&tmp)
+        {
+            Ok(f) => return Ok((f, tmp)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last = Some(e),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(last.unwrap_or_else(|| io::Error::other("no temporary file name is free")))
+}
+
+/// Give `f` the owner and group of `original` where the user may: both,
+/// else the group alone (a user may give a file any group they are in),
+/// else neither (`EPERM` is not an error: the file is then the user's).
+fn keep_owner(f: &File, original: &Metadata) -> io::Result<()> {
+    use std::os::unix::fs::fchown;
+    let denied = |r: io::Result<()>| match r {
+        Err(e) if e.kind() == io::ErrorKind::PermissionDenied => Ok(false),
+        other => other.map(|()| true),
+    };
+    let now = f.metadata()?;
+    if (now.uid(), now.gid()) == (original.uid(), original.gid()) {
+        return Ok(());
+    }
+    if !denied(fchown(f, Some(original.uid()), Some(original.gid())))? {
+        denied(fchown(f, None, Some(original.gid())))?;
+    }
+    Ok(())
+}
+
 /// Write a temporary file beside `target` with `original`'s permissions
 /// and owner, then rename it over `target`.
 fn replace(target: &Path, bytes: &[u8], original: Option<&Metadata>) -> Result<(), WriteError> {
@@ -151,20 +203,16 @@ fn replace(target: &Path, bytes: &[u8], original: Option<&Metadata>) -> Result<(
         path: target.to_path_buf(),
         source,
     };
-    let name = target
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = target.with_file_name(format!(".{name}.nudge-{}.tmp", std::process::id()));
+    let (mut f, tmp) = create_temp(target, original.is_some()).map_err(io)?;
     let result = (|| {
-        let mut f = File::create(&tmp)?;
         f.write_all(bytes)?;
         if let Some(m) = original {
             // Owner first: changing it may clear set-id bits the mode keeps.
-            let _ = std::os::unix::fs::fchown(&f, Some(m.uid()), Some(m.gid()));
+            keep_owner(&f, m)?;
             f.set_permissions(fs::Permissions::from_mode(m.mode() & 0o7777))?;
         }
         f.sync_all()?;
+        drop(f);
         fs::rename(&tmp, target)?;
         if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
             // The rename itself reaches the disk with the directory.
@@ -227,6 +275,67 @@ mod tests {
         write_text(&f, "a = 2\n", WriteMode::Normal).expect("written");
         assert_eq!(fs::read_to_string(&f).unwrap(), "a = 2\n");
         assert_eq!(mode(&f), 0o600);
+    }
+
+    /// A link (or any file) already at the temporary name is neither
+    /// followed nor replaced, and no temporary file is left behind.
+    #[test]
+    fn a_file_planted_at_the_temporary_name_is_left_alone() {
+        let d = dir("planted");
+        let f = d.join("s.toml");
+        let victim = d.join("victim.txt");
+        fs::write(&f, "a = 1\n").unwrap();
+        fs::write(&victim, "precious\n").unwrap();
+        let planted = d.join(format!(".s.toml.nudge-{}-0.tmp", std::process::id()));
+        std::os::unix::fs::symlink("victim.txt", &planted).unwrap();
+        write_text(&f, "a = 2\n", WriteMode::Normal).expect("written");
+        assert_eq!(fs::read_to_string(&f).unwrap(), "a = 2\n");
+        assert!(!fs::symlink_metadata(&f).unwrap().file_type().is_symlink());
+        assert_eq!(fs::read_to_string(&victim).unwrap(), "precious\n");
+        assert!(
+            fs::symlink_metadata(&planted)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        let mut names: Vec<String> = fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        let expected = [
+            planted.file_name().unwrap().to_string_lossy().into_owned(),
+            "s.toml".to_string(),
+            "victim.txt".to_string(),
+        ];
+        assert_eq!(names, expected);
+    }
+
+    /// The owner and group are kept where the user may set them (root
+    /// may); where not, the save still succeeds and the file is the user's.
+    #[test]
+    fn the_owner_is_kept_where_permitted() {
+        let d = dir("owner");
+        let f = d.join("s.toml");
+        fs::write(&f, "a = 1\n").unwrap();
+        let me = fs::metadata(&f).unwrap();
+        let (uid, gid) = (me.uid() + 4321, me.gid() + 4321);
+        match std::os::unix::fs::chown(&f, Some(uid), Some(gid)) {
+            Ok(()) => {
+                fs::set_permissions(&f, fs::Permissions::from_mode(0o640)).unwrap();
+                write_text(&f, "a = 2\n", WriteMode::Normal).expect("written");
+                let after = fs::metadata(&f).unwrap();
+                assert_eq!((after.uid(), after.gid()), (uid, gid));
+                assert_eq!(mode(&f), 0o640);
+            }
+            Err(e) => {
+                assert_eq!(e.kind(), io::ErrorKind::PermissionDenied, "{e}");
+                write_text(&f, "a = 2\n", WriteMode::Normal).expect("written");
+                let after = fs::metadata(&f).unwrap();
+                assert_eq!((after.uid(), after.gid()), (me.uid(), me.gid()));
+            }
+        }
+        assert_eq!(fs::read_to_string(&f).unwrap(), "a = 2\n");
     }
 
     #[test]
