@@ -143,6 +143,16 @@ pub enum EditError {
     /// The file to save to is read-only.
     #[error("{} is read-only: :w! writes it anyway", .0.display())]
     ReadOnly(PathBuf),
+    /// The path to save to names a directory, FIFO, socket or device,
+    /// which a save never replaces.
+    #[error("could not save: {} is {kind}, not a file: give a file, e.g. :w {suggest}", path.display())]
+    NotRegular {
+        path: PathBuf,
+        /// What it is, e.g. "a directory".
+        kind: &'static str,
+        /// A file name to offer instead.
+        suggest: String,
+    },
     /// A new constraint's target is so far from the motion that the
     /// distance to it is not a finite number.
     #[error("target too far away to measure: give values within about 1e150 of the body")]

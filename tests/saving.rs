@@ -148,3 +148,105 @@ fn saving_keeps_the_files_line_endings_bom_and_read_only_flag() {
     assert_eq!(mode, 0o444, "still read-only");
     assert!(!e.dirty());
 }
+
+/// `:w` to a directory, FIFO or device is refused with a message that
+/// names what the path is and offers a file name; nothing is replaced.
+#[test]
+fn saving_over_a_directory_fifo_or_device_is_refused() {
+    use nudge::edit::{Core, EditError, Editor};
+    let d = dir("special");
+    let fifo = d.join("pipe.toml");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo (coreutils) is needed for this test");
+    assert!(made.success());
+    let scene = load(std::path::Path::new("scenes/bounce.toml")).expect("shipped scene");
+    let mut e = Editor::new(scene, None).expect("editor");
+    for (path, kind) in [
+        (fifo.clone(), "a FIFO (named pipe)"),
+        (d.clone(), "a directory"),
+        (PathBuf::from("/dev/null"), "a device"),
+    ] {
+        let got = e.save(Some(&path), WriteMode::Force);
+        assert_eq!(
+            got,
+            Err(EditError::NotRegular {
+                path: path.clone(),
+                kind,
+                suggest: "bounce.toml".into()
+            })
+        );
+        assert_eq!(
+            got.err().map(|e| e.to_string()),
+            Some(format!(
+                "could not save: {} is {kind}, not a file: give a file, e.g. :w bounce.toml",
+                path.display()
+            ))
+        );
+    }
+    use std::os::unix::fs::FileTypeExt;
+    assert!(
+        std::fs::metadata(&fifo)
+            .expect("stat")
+            .file_type()
+            .is_fifo()
+    );
+    assert!(
+        std::fs::metadata("/dev/null")
+            .expect("stat")
+            .file_type()
+            .is_char_device()
+    );
+    std::fs::remove_dir_all(&d).expect("cleaned up");
+}
+
+/// Through the runner: `:w` on a read-only scene says so and leaves it;
+/// `:w!` writes it, and it stays read-only.
+#[test]
+fn the_editor_refuses_a_read_only_scene_until_w_bang() {
+    use std::os::unix::fs::PermissionsExt;
+    let d = dir("bang");
+    let file = d.join("bounce.toml");
+    let original = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
+    std::fs::write(&file, &original).expect("write");
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o444)).expect("chmod");
+    let run = |keys: &str| {
+        let script = d.join("keys.txt");
+        std::fs::write(&script, keys).expect("keys");
+        let screen = d.join("screen.txt");
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_nudge"))
+            .args(["run", "--size", "120x30"])
+            .arg(&file)
+            .arg("--keys")
+            .arg(&script)
+            .arg("--screen")
+            .arg(&screen)
+            .output()
+            .expect("runs nudge");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read_to_string(&screen).expect("screen")
+    };
+    let screen = run("V l :w<CR>\n");
+    assert!(
+        screen.contains(&format!(
+            "{} is read-only: :w! writes it anyway",
+            file.display()
+        )),
+        "{screen}"
+    );
+    assert_eq!(std::fs::read_to_string(&file).expect("read"), original);
+    let screen = run("V l :w!<CR>\n");
+    assert!(
+        screen.contains(&format!("wrote {}", file.display())),
+        "{screen}"
+    );
+    assert_ne!(std::fs::read_to_string(&file).expect("read"), original);
+    let mode = std::fs::metadata(&file).expect("stat").permissions().mode() & 0o777;
+    assert_eq!(mode, 0o444, "still read-only");
+    std::fs::remove_dir_all(&d).expect("cleaned up");
+}

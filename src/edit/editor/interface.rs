@@ -110,6 +110,11 @@ impl Core for Editor {
         let layout_lost =
             scene::save(&self.scene_to_save(), &target, mode).map_err(|e| match e {
                 WriteError::ReadOnly { path } => EditError::ReadOnly(path),
+                WriteError::NotRegular { path, kind } => EditError::NotRegular {
+                    path,
+                    kind,
+                    suggest: format!("{}.toml", plain_name(&self.scene.name)),
+                },
                 other => EditError::Save(other.to_string()),
             })?;
         self.path = Some(target.clone());
@@ -156,5 +161,16 @@ impl Core for Editor {
             }
         }
         v
+    }
+}
+
+/// `name` if it is plain enough to offer as a file name on the status
+/// line (ASCII letters, digits, `-` and `_`), else "scene".
+fn plain_name(name: &str) -> &str {
+    let plain = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '_';
+    if !name.is_empty() && name.chars().all(plain) {
+        name
+    } else {
+        "scene"
     }
 }
