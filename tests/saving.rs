@@ -250,3 +250,61 @@ fn the_editor_refuses_a_read_only_scene_until_w_bang() {
     assert_eq!(mode, 0o444, "still read-only");
     std::fs::remove_dir_all(&d).expect("cleaned up");
 }
+
+/// A save that fails for want of space (here a file size limit of 512
+/// bytes, below the scene's size) leaves a file with one name as it was:
+/// the text goes to a temporary file first. A hard-linked file is
+/// rewritten in place, so it may be left incomplete, and the message says
+/// so.
+#[test]
+fn a_failed_save_leaves_the_file_or_says_it_may_be_incomplete() {
+    let d = dir("full");
+    let original = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
+    assert!(original.len() > 512);
+    std::fs::write(d.join("keys.txt"), "V l :w<CR>\n").expect("keys");
+    // The size limit applies to files, not to the pipe the screen goes
+    // to; SIGXFSZ is ignored so that the write fails with EFBIG instead.
+    let run = |name: &str| {
+        let out = std::process::Command::new("sh")
+            .current_dir(&d)
+            .arg("-c")
+            .arg(r#"trap "" XFSZ; ulimit -f 1; exec "$0" run --size 400x30 "$1" --keys keys.txt --screen /dev/stdout"#)
+            .arg(env!("CARGO_BIN_EXE_nudge"))
+            .arg(name)
+            .output()
+            .expect("runs nudge under sh");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).expect("UTF-8 screen")
+    };
+    std::fs::write(d.join("one.toml"), &original).expect("write");
+    let screen = run("one.toml");
+    assert!(
+        screen.contains("could not save: one.toml: File too large (os error 27)"),
+        "{screen}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(d.join("one.toml")).expect("read"),
+        original
+    );
+    let leftovers: Vec<_> = std::fs::read_dir(&d)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name())
+        .filter(|n| n.to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+
+    std::fs::write(d.join("two.toml"), &original).expect("write");
+    std::fs::hard_link(d.join("two.toml"), d.join("other.toml")).expect("link");
+    let screen = run("two.toml");
+    assert!(
+        screen.contains(
+            "could not save: two.toml: File too large (os error 27), part way through rewriting it in place (it has other hard links): it may be incomplete; save again once that is fixed"
+        ),
+        "{screen}"
+    );
+    std::fs::remove_dir_all(&d).expect("cleaned up");
+}

@@ -42,6 +42,14 @@ pub enum WriteError {
     NotRegular { path: PathBuf, kind: &'static str },
     #[error("{}: {source}", path.display())]
     Io { path: PathBuf, source: io::Error },
+    /// A file with other hard links is rewritten in place (see
+    /// [`write_text`]), so a failure after it was truncated leaves it
+    /// incomplete.
+    #[error(
+        "{}: {source}, part way through rewriting it in place (it has other hard links): it may be incomplete; save again once that is fixed",
+        path.display()
+    )]
+    Partial { path: PathBuf, source: io::Error },
 }
 
 /// Symlinks followed this many times at most (as the kernel's ELOOP).
@@ -113,7 +121,8 @@ fn as_original(text: &str, original: &[u8]) -> String {
 /// [`WriteMode::Normal`], [`WriteError::NotRegular`] for anything but a
 /// regular file, [`WriteError::Io`] for the I/O error otherwise. The file
 /// is then as it was (an in-place write of a hard-linked file may fail
-/// part way: its error says so).
+/// part way: that is
+/// [`WriteError::Partial`]).
 pub fn write_text(path: &Path, text: &str, mode: WriteMode) -> Result<(), WriteError> {
     let target = resolve(path)?;
     let io = |source: io::Error| WriteError::Io {
@@ -140,7 +149,7 @@ pub fn write_text(path: &Path, text: &str, mode: WriteMode) -> Result<(), WriteE
     let original = super::read_regular(&target, super::MAX_TEXT_BYTES).map_err(io)?;
     let text = as_original(text, &original);
     if meta.nlink() > 1 {
-        in_place(&target, text.as_bytes(), &meta).map_err(io)
+        in_place(&target, text.as_bytes(), &meta)
     } else {
         replace(&target, text.as_bytes(), Some(&meta))
     }
@@ -228,23 +237,36 @@ fn replace(target: &Path, bytes: &[u8], original: Option<&Metadata>) -> Result<(
 
 /// Truncate and rewrite `target` through its own inode (every hard link
 /// sees it); a read-only file (forced) is made writable for the write and
-/// read-only again after.
-fn in_place(target: &Path, bytes: &[u8], meta: &Metadata) -> io::Result<()> {
+/// read-only again after. An error once the file is truncated is
+/// [`WriteError::Partial`].
+fn in_place(target: &Path, bytes: &[u8], meta: &Metadata) -> Result<(), WriteError> {
+    let io = |source: io::Error| WriteError::Io {
+        path: target.to_path_buf(),
+        source,
+    };
     let mode = meta.mode() & 0o7777;
     let restore = mode & 0o200 == 0;
     if restore {
-        fs::set_permissions(target, fs::Permissions::from_mode(mode | 0o200))?;
+        fs::set_permissions(target, fs::Permissions::from_mode(mode | 0o200)).map_err(io)?;
     }
-    let result = (|| {
-        let mut f = fs::OpenOptions::new()
-            .write(true)
-            .truncate(true)
-            .open(target)?;
-        f.write_all(bytes)?;
-        f.sync_all()
-    })();
+    let result = fs::OpenOptions::new()
+        .write(true)
+        .truncate(true)
+        .open(target)
+        .map_err(io)
+        .and_then(|mut f| {
+            f.write_all(bytes)
+                .and_then(|()| f.sync_all())
+                .map_err(|source| WriteError::Partial {
+                    path: target.to_path_buf(),
+                    source,
+                })
+        });
     if restore {
-        fs::set_permissions(target, fs::Permissions::from_mode(mode))?;
+        let back = fs::set_permissions(target, fs::Permissions::from_mode(mode));
+        result?;
+        back.map_err(io)?;
+        return Ok(());
     }
     result
 }
