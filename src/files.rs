@@ -4,8 +4,10 @@
 //! [`write_text`], which keeps the file what it was (link, permissions,
 //! hard links, line endings).
 
+mod style;
 mod write;
 
+pub use style::TextStyle;
 pub use write::{WriteError, WriteMode, write_text};
 
 use std::io::{self, Read};

@@ -308,3 +308,41 @@ fn a_failed_save_leaves_the_file_or_says_it_may_be_incomplete() {
     );
     std::fs::remove_dir_all(&d).expect("cleaned up");
 }
+
+/// `:w other.toml` writes the scene with its file's byte-order mark and
+/// line endings, edited or not (over an existing file, that file's own).
+#[test]
+fn saving_elsewhere_keeps_the_scene_files_bom_and_line_endings() {
+    use nudge::edit::{Core, Edit, Editor};
+    let d = dir("saveas");
+    let plain = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
+    let styled = format!("\u{feff}{}", plain.replace('\n', "\r\n"));
+    let file = d.join("bounce.toml");
+    std::fs::write(&file, &styled).expect("write");
+    let mut e = Editor::new(load(&file).expect("loads"), Some(file.clone())).expect("editor");
+    let unedited = d.join("unedited.toml");
+    e.save(Some(&unedited), WriteMode::Normal).expect("saved");
+    assert!(std::fs::read(&unedited).expect("read") == styled.as_bytes());
+    e.apply(Edit::SelectTime(0.5)).expect("time");
+    e.apply(Edit::Nail {
+        quantities: vec![nudge::scene::StateQuantity::Position],
+        exact: vec![],
+    })
+    .expect("nail");
+    let edited = d.join("edited.toml");
+    e.save(Some(&edited), WriteMode::Normal).expect("saved");
+    let text = std::fs::read_to_string(&edited).expect("read");
+    assert!(text.starts_with('\u{feff}'), "the BOM is kept");
+    assert!(!text.replace("\r\n", "").contains('\n'), "CRLF throughout");
+    assert!(text.contains("[[constraint]]\r\nkind = \"nail\""), "{text}");
+    let lf = d.join("lf.toml");
+    std::fs::write(&lf, "# an LF file\n").expect("write");
+    e.save(Some(&lf), WriteMode::Normal).expect("saved");
+    let text = std::fs::read_to_string(&lf).expect("read");
+    assert!(
+        !text.starts_with('\u{feff}') && !text.contains('\r'),
+        "its own style"
+    );
+    assert_eq!(load(&lf).expect("loads").constraints.len(), 1);
+    std::fs::remove_dir_all(&d).expect("cleaned up");
+}

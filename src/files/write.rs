@@ -22,8 +22,6 @@ use std::io::{self, Write};
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
-const BOM: &str = "\u{feff}";
-
 /// Whether a write may replace a read-only file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WriteMode {
@@ -87,33 +85,6 @@ fn writable(path: &Path, meta: &Metadata) -> bool {
     !meta.permissions().readonly() && rustix::fs::access(path, rustix::fs::Access::WRITE_OK).is_ok()
 }
 
-/// `text` with the original's byte-order mark and line endings.
-fn as_original(text: &str, original: &[u8]) -> String {
-    let bom = original.starts_with(BOM.as_bytes());
-    let crlf = original
-        .iter()
-        .position(|&b| b == b'\n')
-        .is_some_and(|i| i > 0 && original[i - 1] == b'\r');
-    let body = text.strip_prefix(BOM).unwrap_or(text);
-    let mut out = String::with_capacity(text.len() + text.len() / 32 + 3);
-    if bom {
-        out.push_str(BOM);
-    }
-    if crlf {
-        let mut prev = '\0';
-        for c in body.chars() {
-            if c == '\n' && prev != '\r' {
-                out.push('\r');
-            }
-            out.push(c);
-            prev = c;
-        }
-    } else {
-        out.push_str(body);
-    }
-    out
-}
-
 /// Write `text` to the file `path` names (see the module documentation).
 ///
 /// # Errors
@@ -147,7 +118,7 @@ pub fn write_text(path: &Path, text: &str, mode: WriteMode) -> Result<(), WriteE
         return Err(WriteError::ReadOnly { path: target });
     }
     let original = super::read_regular(&target, super::MAX_TEXT_BYTES).map_err(io)?;
-    let text = as_original(text, &original);
+    let text = super::TextStyle::of(&original).apply(text);
     if meta.nlink() > 1 {
         in_place(&target, text.as_bytes(), &meta)
     } else {

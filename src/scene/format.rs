@@ -142,7 +142,8 @@ pub fn to_toml(scene: &Scene) -> String {
     write::to_toml(scene)
 }
 
-/// The text [`save`] writes for `scene` at `path`. For a scene loaded from
+/// The text [`save`] writes for `scene` at `path` (before [`save`] gives
+/// it the file's byte-order mark and line endings). For a scene loaded from
 /// text ([`Scene::source_text`]), that text with only what changed edited
 /// in place: every comment, blank line, key order and untouched value stays
 /// as written. Otherwise, or if that text cannot be edited in place, new
@@ -168,7 +169,10 @@ fn saved_text_noting(scene: &Scene, path: &Path) -> (String, Option<String>) {
 /// Write a scene ([`saved_text`]) with [`crate::files::write_text`]:
 /// atomically, through symlinks, keeping the file's permissions, hard
 /// links, byte-order mark and line endings; a read-only file only with
-/// [`WriteMode::Force`]. Returns why the text the scene was loaded from
+/// [`WriteMode::Force`]. A new file takes the byte-order mark and line
+/// endings of the text the scene was loaded from (an existing one keeps
+/// its own), so `:w other.toml` writes the scene as its file is written,
+/// edited or not. Returns why the text the scene was loaded from
 /// could not be kept, when it was written as new text instead (its
 /// comments and layout are then gone; the numbers are all there).
 ///
@@ -176,6 +180,10 @@ fn saved_text_noting(scene: &Scene, path: &Path) -> (String, Option<String>) {
 /// As [`crate::files::write_text`]; `path` is then left as it was.
 pub fn save(scene: &Scene, path: &Path, mode: WriteMode) -> Result<Option<String>, WriteError> {
     let (text, unkept) = saved_text_noting(scene, path);
+    let text = match scene.source_text.as_deref() {
+        Some(source) => crate::files::TextStyle::of(source.as_bytes()).apply(&text),
+        None => text,
+    };
     crate::files::write_text(path, &text, mode).map(|()| unkept)
 }
 
