@@ -201,8 +201,8 @@ fn saving_over_a_directory_fifo_or_device_is_refused() {
     std::fs::remove_dir_all(&d).expect("cleaned up");
 }
 
-/// Through the runner: `:w` on a read-only scene says so and leaves it;
-/// `:w!` writes it, and it stays read-only.
+/// Through the runner: `:w` (or `:wq`) on a read-only scene says so and
+/// leaves it; `:w!` (or `:wq!`) writes it, and it stays read-only.
 #[test]
 fn the_editor_refuses_a_read_only_scene_until_w_bang() {
     use std::os::unix::fs::PermissionsExt;
@@ -248,6 +248,18 @@ fn the_editor_refuses_a_read_only_scene_until_w_bang() {
     assert_ne!(std::fs::read_to_string(&file).expect("read"), original);
     let mode = std::fs::metadata(&file).expect("stat").permissions().mode() & 0o777;
     assert_eq!(mode, 0o444, "still read-only");
+    // The same for :wq and :wq!.
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o644)).expect("chmod");
+    std::fs::write(&file, &original).expect("write");
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o444)).expect("chmod");
+    let screen = run("V l :wq<CR>\n");
+    assert!(
+        screen.contains("is read-only: :w! writes it anyway"),
+        "{screen}"
+    );
+    assert_eq!(std::fs::read_to_string(&file).expect("read"), original);
+    run("V l :wq!<CR>\n");
+    assert_ne!(std::fs::read_to_string(&file).expect("read"), original);
     std::fs::remove_dir_all(&d).expect("cleaned up");
 }
 
