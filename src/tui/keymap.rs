@@ -3,6 +3,7 @@
 //! the README's key map is generated (helix `keymap!`, gitui `KeysList`).
 
 use super::camera::ViewKind;
+use super::command::{COMMAND_NOTES, usage_rows};
 use super::key::{Key, KeyCode};
 use crate::scene::{Block, StateQuantity};
 
@@ -552,7 +553,7 @@ pub fn markdown() -> String {
         }
     }
     out.push_str("\n### commands (:)\n\n| command | does |\n|---|---|\n");
-    for (cmd, does) in COMMANDS {
+    for (cmd, does) in usage_rows() {
         out.push_str(&format!("| `{}` | {} |\n", cmd.replace('|', "\\|"), does));
     }
     out.push('\n');
@@ -561,66 +562,6 @@ pub fn markdown() -> String {
     }
     out
 }
-
-/// The `:` commands, for the README and `:help`.
-pub const COMMANDS: &[(&str, &str)] = &[
-    (
-        ":nail [qty [x y z]]...",
-        "nail the body now (default: all four)",
-    ),
-    (
-        ":float [pre|post] [qty..]",
-        "floating constraint at nearest collision",
-    ),
-    (
-        ":upright [pre|post]",
-        "z axis up now (or at nearest collision)",
-    ),
-    (
-        ":steady [pre|post]",
-        "spin about the vertical only: no tipping",
-    ),
-    (":set tol 1e-9", "adaptive integrator with this tolerance"),
-    (":set step 1e-3", "fixed-step RK4 with this step (s)"),
-    (
-        ":set method rk4|adaptive",
-        "switch integrator, keeping its setting",
-    ),
-    (":set roottol 1e-12", "collision-time tolerance (m)"),
-    (
-        ":set scale velocity 2",
-        "scale (diagonal of M) of a control kind",
-    ),
-    (":set nudge 0.01", "nudge step of the current mode"),
-    (
-        ":free body block",
-        "free a control block (body: name or index)",
-    ),
-    (":fix body block", "fix a control block"),
-    (":fix event [k]", "fix the controls at event k (or nearest)"),
-    (":free event [k]", "free the controls at event k"),
-    (":t 1.25", "go to time (s)"),
-    (":event 3", "go to collision event 3"),
-    (":body name", "select a body (name or index)"),
-    (":delete 2", "delete constraint row 2"),
-    (":speed other", "expression: same speed as another body"),
-    (":spin 3.0", "expression: angular speed 3 rad/s"),
-    (":settle [ms]", "settle (default budget 500 ms)"),
-    (":undo  :redo", "undo, redo"),
-    (":w [path]", "save (to path)"),
-    (":w! [path]", "save, even over a read-only file"),
-    (":wq [path]", "save, then quit (:wq! as :w!)"),
-    (":q", "quit (refused with unsaved edits)"),
-    (":q!", "quit, discarding unsaved edits"),
-    (":help", "this help"),
-];
-
-/// What the command arguments may be, for the help and the README.
-pub const COMMAND_NOTES: &[&str] = &[
-    "qty: position orientation velocity angular_velocity (pos rot vel angvel)",
-    "x y z after a qty: hold it there, not at its current value; s settles",
-    "block: position orientation velocity angular_velocity mass inertia",
-];
 
 #[cfg(test)]
 mod tests {
@@ -665,7 +606,7 @@ mod tests {
         for b in KEYMAP {
             assert!(b.help.chars().count() <= 50, "{}: {}", b.key, b.help);
         }
-        for (cmd, does) in COMMANDS {
+        for (cmd, does) in usage_rows() {
             assert!(
                 cmd.chars().count() <= 26 && does.chars().count() <= 44,
                 "{cmd}: {does}"

@@ -1,7 +1,8 @@
 //! The `?` popup: every key of the key map by context, then the `:`
 //! commands. Generated from the same table the App dispatches from.
 
-use crate::tui::keymap::{COMMAND_NOTES, COMMANDS, Context, help_rows};
+use crate::tui::command::{COMMAND_NOTES, usage_rows};
+use crate::tui::keymap::{Context, help_rows};
 use crate::tui::theme::Theme;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
@@ -29,8 +30,7 @@ impl HelpPopup {
             .max()
             .unwrap_or(0);
         let keys_width = widest.min(MAX_KEYS_WIDTH) + 1;
-        let widest = COMMANDS
-            .iter()
+        let widest = usage_rows()
             .map(|(c, _)| c.chars().count())
             .max()
             .unwrap_or(0);
@@ -51,7 +51,7 @@ impl HelpPopup {
         }
         lines.push(Line::raw(""));
         lines.push(Line::styled("commands (:)", theme.title()));
-        for (cmd, does) in COMMANDS {
+        for (cmd, does) in usage_rows() {
             let pad = commands_width.saturating_sub(cmd.chars().count()).max(1);
             lines.push(Line::from(vec![
                 Span::styled(format!("  {cmd}"), theme.key()),
@@ -130,7 +130,7 @@ mod tests {
             });
             assert!(listed, "{key} ({}) missing from help:\n{text}", b.help);
         }
-        for (cmd, _) in COMMANDS {
+        for (cmd, _) in usage_rows() {
             assert!(text.contains(cmd), "{cmd} missing");
         }
     }
