@@ -2,8 +2,10 @@
 //! [`Core::apply`]. The TUI and the headless runner both drive the same core.
 
 mod editor;
+mod note;
 
 pub use editor::{Editor, MAX_SETTLE_UPDATES};
+pub use note::{BlockedBy, Note};
 
 pub use crate::files::WriteMode;
 use crate::math::Vec3;
@@ -94,6 +96,12 @@ pub enum Edit {
     Vertical { goal: Vertical, side: Option<Side> },
     /// Remove the constraint with this index (in the constraints panel order).
     RemoveConstraint(usize),
+    /// Stop holding these quantities in the nail or floating constraint
+    /// with this index (removing it when none is left).
+    Release {
+        row: usize,
+        quantities: Vec<StateQuantity>,
+    },
     /// Free or fix a control block of a body.
     SetBlock {
         body: usize,
@@ -129,8 +137,26 @@ pub struct Outcome {
     pub updates: usize,
     /// Wall time spent, ms.
     pub elapsed_ms: f64,
-    /// Diagnostics (conflicting constraints, pops, blocks, grazing, ...).
-    pub diagnostics: Vec<String>,
+    /// What it has to say (conflicts, pops, blocks, grazing, ...).
+    pub notes: Vec<Note>,
+    /// Where a new constraint or event control was anchored.
+    pub anchored: Option<Anchored>,
+    /// For undo and redo: what the undone or redone edit was.
+    pub reverted: Option<String>,
+}
+
+/// Where an edit took effect.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Anchored {
+    /// At this time, s.
+    Time(f64),
+    /// At the selected body's `collision`-th collision (global `event`),
+    /// on this side of it.
+    Collision {
+        collision: usize,
+        event: usize,
+        side: Side,
+    },
 }
 
 /// Why an edit was refused. The core's state is unchanged.

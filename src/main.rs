@@ -50,6 +50,10 @@ enum Command {
         /// Write the before/after traces as an SVG picture here.
         #[arg(long)]
         trace_svg: Option<PathBuf>,
+        /// Go on past command lines that do not parse (each is reported;
+        /// the exit status is still non-zero).
+        #[arg(long)]
+        keep_going: bool,
     },
     /// Print what accuracy costs in time.
     Bench {
@@ -114,7 +118,8 @@ fn real_main() -> Result<()> {
             screen,
             size,
             trace_svg,
-        }) => run(&scene, &keys, report, screen, &size, trace_svg),
+            keep_going,
+        }) => run(&scene, &keys, report, screen, &size, trace_svg, keep_going),
         Some(Command::Bench { quick, csv, only }) => {
             let args = nudge::bench::BenchArgs { quick, csv, only };
             nudge::bench::run(&args, &mut std::io::stdout().lock())?;
@@ -202,6 +207,7 @@ fn parse_size(size: &str) -> Result<(u16, u16)> {
     Ok((w, h))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn run(
     path: &Path,
     keys: &Path,
@@ -209,17 +215,18 @@ fn run(
     screen: Option<PathBuf>,
     size: &str,
     svg: Option<PathBuf>,
+    keep_going: bool,
 ) -> Result<()> {
     let size = parse_size(size)?;
     let text = nudge::files::read_regular_text(keys, nudge::files::MAX_TEXT_BYTES)
         .with_context(|| format!("reading the key script {}", keys.display()))?;
-    let parsed = nudge::script::parse_keys(&text, &keys.display().to_string())
+    let parsed = nudge::script::parse_script(&text, &keys.display().to_string())
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
     // A replay is deterministic: settles stop by convergence, not the clock.
     editor.set_wall_clock(false);
     let before = editor.view();
-    let result = nudge::script::run_script(&mut editor, &parsed, size);
+    let result = nudge::script::run_script_with(&mut editor, &parsed, size, keep_going);
     if let Some(p) = screen {
         std::fs::write(&p, format!("{}\n", result.screen))
             .with_context(|| format!("writing {}", p.display()))?;
@@ -238,6 +245,22 @@ fn run(
     if let Some(p) = svg {
         std::fs::write(&p, nudge::svg::before_after(&before, &editor.view()))
             .with_context(|| format!("writing {}", p.display()))?;
+    }
+    if let Some(first) = result.failures.first() {
+        for f in &result.failures {
+            eprintln!("{}:{f}", keys.display());
+        }
+        if keep_going {
+            bail!(
+                "{} command line(s) of {} did not parse",
+                result.failures.len(),
+                keys.display()
+            );
+        }
+        bail!(
+            "{}:{first}: the replay stopped there (--keep-going goes on past such lines)",
+            keys.display()
+        );
     }
     Ok(())
 }

@@ -32,14 +32,8 @@ pub fn party_name(scene: &Scene, p: Party) -> String {
     }
 }
 
-/// One constraint row of a report.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ConstraintRow {
-    pub kind: String,
-    pub body: String,
-    pub at: String,
-    pub residual: f64,
-}
+/// One constraint row of a report: the constraints panel's row.
+pub use crate::view::ConstraintRow;
 
 /// The summary object: `scene`, `duration`, `controls`, `constraints`,
 /// `events`, `bodies`, `effects`, `diagnostics`.

@@ -13,5 +13,7 @@ mod keys;
 mod runner;
 
 pub use crate::tui::{Key, KeyCode, Mods};
-pub use keys::{KeyScriptError, known_names, parse_keys};
-pub use runner::{FRAME_SECONDS, Latency, RunResult, latency, run_script};
+pub use keys::{KeyScriptError, Step, known_names, parse_keys, parse_script};
+pub use runner::{
+    FRAME_SECONDS, Latency, RunResult, ScriptFailure, latency, run_script, run_script_with,
+};

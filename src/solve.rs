@@ -10,7 +10,9 @@
 //! motion's collision signature.
 
 mod constraint;
+mod explain;
 mod update;
 
 pub use constraint::{Anchor, Constraint, ConstraintError, Kind};
+pub use explain::{Blocker, blockers};
 pub use update::{Diagnostic, SolveError, UpdateOptions, UpdateResult, kkt, residual_norm, update};

@@ -11,10 +11,12 @@ pub struct Path {
     pub body: usize,
     /// World positions at increasing times.
     pub points: Vec<Vec3>,
+    /// The time of each point, s.
+    pub times: Vec<f64>,
 }
 
 /// A collision event as drawn.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct EventMark {
     /// Global event index.
     pub index: usize,
@@ -27,6 +29,77 @@ pub struct EventMark {
     pub b: String,
     /// Whether the event was flagged grazing.
     pub grazing: bool,
+    /// The touching features in words, e.g. `vertex 3 on plane`.
+    pub features: String,
+    /// Normal speed of approach before and of separation after, m/s (≥ 0).
+    pub approach: f64,
+    pub separation: f64,
+    /// A micro-contact: the body came to rest, or left slower than the
+    /// scene's rest speed (rocking, settling).
+    pub micro: bool,
+}
+
+impl EventMark {
+    /// One line saying what collided, e.g. `event 3 t=0.812: egg1 hit
+    /// bucket_b (vertex 3 on plane), 2.31 → 0.92 m/s`.
+    pub fn describe(&self) -> String {
+        let speed = |v: f64| crate::tui::format_number(v, 3);
+        let mut s = format!(
+            "event {} t={}: {} hit {} ({}), normal speed {} → {} m/s",
+            self.index,
+            crate::tui::format_number(self.t, 4),
+            self.a,
+            self.b,
+            self.features,
+            speed(self.approach),
+            speed(self.separation)
+        );
+        if self.micro {
+            s.push_str(", a resting micro-contact");
+        }
+        if self.grazing {
+            s.push_str(", grazing: no Jacobian from here on, edits sample");
+        }
+        s
+    }
+}
+
+/// A collision next to the current time, for the pose readout.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Neighbour {
+    /// Global event index.
+    pub index: usize,
+    pub t: f64,
+    /// The other party's name.
+    pub other: String,
+}
+
+/// The selected body's state at the current time, for the readout.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pose {
+    /// Centre of mass, m.
+    pub position: Vec3,
+    /// Rotation from the rest orientation: angle (degrees) about a unit axis.
+    pub angle_deg: f64,
+    pub axis: Vec3,
+    /// Angle of the body's up (z) axis from the world vertical, degrees.
+    pub tilt_deg: f64,
+    /// m/s and rad/s.
+    pub velocity: Vec3,
+    pub angular_velocity: Vec3,
+    /// The body's last collision at or before, and next after, the time.
+    pub previous: Option<Neighbour>,
+    pub next: Option<Neighbour>,
+}
+
+/// Where a constraint holds its body's position, for drawing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Target {
+    /// Row in the constraints panel.
+    pub row: usize,
+    pub body: usize,
+    /// World position the constraint holds the body at.
+    pub point: Vec3,
 }
 
 /// One row of the control-vector panel.
@@ -42,7 +115,7 @@ pub struct ControlRow {
 }
 
 /// One row of the constraints panel.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct ConstraintRow {
     /// `nail`, `floating`, `drag`, or an expression kind.
     pub kind: String,
@@ -50,6 +123,9 @@ pub struct ConstraintRow {
     /// `t=1.250` or `hit#3 post`.
     pub at: String,
     pub residual: f64,
+    /// Distance from the body's position to the position the constraint
+    /// holds it at (m), for constraints that hold a position.
+    pub gap: Option<f64>,
 }
 
 /// The status line's contents.
@@ -89,6 +165,13 @@ pub struct View {
     pub selected: usize,
     /// Every traced point's path.
     pub paths: Vec<Path>,
+    /// The paths before the last edit that changed the motion (empty
+    /// before the first).
+    pub ghost: Vec<Path>,
+    /// The selected body at the current time.
+    pub pose: Option<Pose>,
+    /// Where constraints hold positions.
+    pub targets: Vec<Target>,
     /// Obstacle outlines as world-space segments.
     pub obstacles: Vec<(Vec3, Vec3)>,
     /// The selected body's outline at the current time, world space.

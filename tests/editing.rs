@@ -2,7 +2,7 @@
 
 use nudge::controls::Controls;
 use nudge::edit::Editor;
-use nudge::edit::{Core, Edit, Expression, Side, Vertical};
+use nudge::edit::{Core, Edit, Expression, Note, Side, Vertical};
 use nudge::geometry::Geometry;
 use nudge::math::Vec3;
 use nudge::scene::{Block, Effects, Scene, StateQuantity};
@@ -294,14 +294,18 @@ fn a_drag_across_a_facet_boundary_pops_or_blocks() {
             })
             .unwrap();
         assert!(e.view().status.residual <= res_before + 1e-12);
-        outcomes.extend(o.diagnostics);
+        outcomes.extend(o.notes);
         if e.trajectory().events.first().map(|ev| ev.key.clone()) != Some(key0.clone()) {
             break;
         }
     }
     let crossed = e.trajectory().events.first().map(|ev| ev.key.clone()) != Some(key0);
-    let popped = outcomes.iter().any(|d| d.starts_with("pop"));
-    let blocked = outcomes.iter().any(|d| d.starts_with("blocked"));
+    let popped = outcomes
+        .iter()
+        .any(|d| matches!(d, Note::Solver(Diagnostic::Pop { .. })));
+    let blocked = outcomes
+        .iter()
+        .any(|d| matches!(d, Note::Solver(Diagnostic::Blocked)));
     assert!(
         (crossed && popped) || blocked,
         "crossed {crossed}, diagnostics {outcomes:?}"

@@ -42,6 +42,14 @@ fn bounce_after_a_drag_and_a_nail() {
     insta::assert_snapshot!(s);
 }
 
+/// The readout, a nail's target (⊕), the motion before the last drag
+/// (dotted) and the rocking at the end grouped on the timeline (┼×N).
+#[test]
+fn bounce_readout_target_ghost_and_grouped_contacts() {
+    let s = screen("scenes/bounce.toml", "]]]]]]]]]] LL ]]]]] a", (80, 24));
+    insta::assert_snapshot!(s);
+}
+
 #[test]
 fn help_popup_lists_the_keys() {
     let s = screen("scenes/bounce.toml", "?", (80, 24));

@@ -85,10 +85,12 @@ impl FakeCore {
             paths: vec![
                 Path {
                     body: 0,
+                    times: (0..ball.len()).map(|k| k as f64 * 0.05).collect(),
                     points: ball,
                 },
                 Path {
                     body: 1,
+                    times: (0..crate_path.len()).map(|k| k as f64 * 0.05).collect(),
                     points: crate_path,
                 },
             ],
@@ -98,6 +100,9 @@ impl FakeCore {
             ]
             .concat(),
             selected_outline: outline(now, 0.1),
+            ghost: Vec::new(),
+            pose: None,
+            targets: Vec::new(),
             body_outlines: outline(Vec3::new(4.1, 0.0, -0.25), 0.25),
             events: hits
                 .iter()
@@ -113,6 +118,7 @@ impl FakeCore {
                         "ground".into()
                     },
                     grazing: index == 2,
+                    ..EventMark::default()
                 })
                 .collect(),
             controls: vec![
@@ -129,12 +135,14 @@ impl FakeCore {
                     body: "ball".into(),
                     at: "t=2.000".into(),
                     residual: 3.2e-9,
+                    gap: Some(3.2e-9),
                 },
                 ConstraintRow {
                     kind: "floating".into(),
                     body: "ball".into(),
                     at: "hit#0 post".into(),
                     residual: 0.0,
+                    gap: None,
                 },
             ],
             status: Status {
@@ -174,6 +182,7 @@ impl Core for FakeCore {
             Edit::SelectTime(t) if t.is_finite() => v.time = t.clamp(0.0, v.duration),
             Edit::SelectEvent(k) if *k < v.events.len() => v.time = v.events[*k].t,
             Edit::Nudge { delta, .. } => {
+                v.ghost = v.paths.clone();
                 let body = v.selected;
                 for p in v.paths.iter_mut().filter(|p| p.body == body) {
                     p.points.iter_mut().for_each(|q| *q += delta);
@@ -184,6 +193,7 @@ impl Core for FakeCore {
             Edit::Nail { .. } => v.constraints.push(ConstraintRow {
                 kind: "nail".into(),
                 body: v.bodies[v.selected].clone(),
+                gap: None,
                 at: format!("t={:.3}", v.time),
                 residual: 0.0,
             }),
@@ -203,8 +213,7 @@ impl Core for FakeCore {
         self.log.push(edit);
         Ok(Outcome {
             updates: 1,
-            elapsed_ms: 0.0,
-            diagnostics: Vec::new(),
+            ..Outcome::default()
         })
     }
 
@@ -266,13 +275,13 @@ fn keys(script: &str) -> Vec<Key> {
 
 #[test]
 fn screen_80x24() {
-    let r = run_script(&mut FakeCore::new(), &[], (80, 24));
+    let r = run_script::<Key>(&mut FakeCore::new(), &[], (80, 24));
     insta::assert_snapshot!("screen_80x24", r.screen);
 }
 
 #[test]
 fn screen_too_small() {
-    let r = run_script(&mut FakeCore::new(), &[], (50, 12));
+    let r = run_script::<Key>(&mut FakeCore::new(), &[], (50, 12));
     assert!(r.screen.contains("terminal too small"), "{}", r.screen);
     insta::assert_snapshot!("screen_too_small", r.screen);
 }
@@ -366,8 +375,19 @@ fn quitting_clean_and_dirty() {
         "{}",
         r.screen
     );
-    let r = run_script(&mut FakeCore::new(), &keys("l <Esc> y l l"), (80, 24));
+    let r = run_script(&mut FakeCore::new(), &keys("l q y l l"), (80, 24));
     assert!(r.quit && r.edits == 1);
+    // Esc never quits: not with unsaved edits, not without, not twice.
+    for script in [
+        "<Esc>",
+        "l <Esc> <Esc> y",
+        "5 <Esc> <Esc>",
+        ": <Esc> <Esc>",
+        "? <Esc> <Esc>",
+    ] {
+        let r = run_script(&mut FakeCore::new(), &keys(script), (80, 24));
+        assert!(!r.quit, "{script} quit");
+    }
 }
 
 /// Words that must never appear as numbers on screen.

@@ -2,7 +2,9 @@
 //! constraints, the current motion and the undo history. Every change goes
 //! through [`Core::apply`] and is atomic.
 
-use super::{Core, Edit, EditError, Expression, Outcome, Saved, Side, Vertical};
+use super::{
+    Anchored, BlockedBy, Core, Edit, EditError, Expression, Note, Outcome, Saved, Side, Vertical,
+};
 use crate::controls::Controls;
 use crate::files::{WriteError, WriteMode};
 use crate::math::{Vec3, exp_so3, log_so3};
@@ -16,7 +18,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 mod apply;
+mod explain;
 mod interface;
+mod readout;
 mod spec;
 
 use spec::{from_spec, to_spec};
@@ -32,6 +36,8 @@ const SETTLE_HALVINGS: usize = 8;
 /// What undo and redo restore.
 #[derive(Clone)]
 struct Snapshot {
+    /// What the edit that left this state behind was (for undo's message).
+    label: String,
     scene: Scene,
     constraints: Vec<Constraint>,
     /// The revision this state had: undoing back to the saved state makes
@@ -67,6 +73,8 @@ pub struct Editor {
     /// whose results must not depend on the machine's speed).
     wall_clock: bool,
     paths: Vec<view::Path>,
+    /// `paths` before the last edit that changed the motion.
+    ghost: Vec<view::Path>,
     obstacle_lines: Vec<(Vec3, Vec3)>,
 }
 
@@ -152,6 +160,7 @@ impl Editor {
             opts: UpdateOptions::default(),
             wall_clock: true,
             paths: Vec::new(),
+            ghost: Vec::new(),
             obstacle_lines: Vec::new(),
         };
         e.refresh_geometry();
@@ -230,6 +239,7 @@ impl Editor {
 
     fn snapshot(&self) -> Snapshot {
         Snapshot {
+            label: String::new(),
             scene: self.scene.clone(),
             constraints: self.constraints.clone(),
             revision: self.revision,
@@ -285,14 +295,11 @@ impl Editor {
         let mut paths = Vec::new();
         for (i, b) in self.scene.bodies.iter().enumerate() {
             for p in &b.traced {
+                let (times, points) = self.traj.path(i, p, 240).into_iter().unzip();
                 paths.push(view::Path {
                     body: i,
-                    points: self
-                        .traj
-                        .path(i, p, 240)
-                        .into_iter()
-                        .map(|(_, x)| x)
-                        .collect(),
+                    points,
+                    times,
                 });
             }
         }
@@ -399,11 +406,7 @@ impl Editor {
         Ok((moved, res.diagnostics, res.after))
     }
 
-    fn nudge(
-        &mut self,
-        quantity: StateQuantity,
-        delta: Vec3,
-    ) -> Result<Vec<Diagnostic>, EditError> {
+    fn nudge(&mut self, quantity: StateQuantity, delta: Vec3) -> Result<Vec<Note>, EditError> {
         finite3(&delta, "a nudge")?;
         if self.controls.m() == 0 {
             return Err(invalid(format!(
@@ -430,6 +433,20 @@ impl Editor {
         let mut all = self.constraints.clone();
         all.push(drag);
         let (moved, mut diags, _) = self.step(&all)?;
+        let fraction = self.status.step;
+        let blocked = diags.iter().any(|d| {
+            matches!(
+                d,
+                Diagnostic::Conflicting { .. }
+                    | Diagnostic::Blocked
+                    | Diagnostic::PartialDrag { .. }
+            )
+        });
+        let blockers = if blocked && !self.constraints.is_empty() {
+            self.blocked_by(&all)
+        } else {
+            Vec::new()
+        };
         if self.constraints.is_empty() {
             // Only the drag: nothing conflicts, the controls just cannot
             // follow it all the way.
@@ -455,7 +472,14 @@ impl Editor {
                 }
             }
         }
-        Ok(diags)
+        let mut notes: Vec<Note> = diags.into_iter().map(Note::Solver).collect();
+        if moved && fraction < 1.0 - 1e-9 && fraction > 0.0 {
+            notes.push(Note::PartialStep { fraction });
+        }
+        if !blockers.is_empty() {
+            notes.push(Note::BlockedBy(blockers));
+        }
+        Ok(notes)
     }
 
     fn settle(&mut self, budget_ms: u64) -> Result<Vec<Diagnostic>, EditError> {
@@ -502,9 +526,11 @@ impl Editor {
     }
 
     fn constraint_rows(&self) -> Vec<ConstraintRow> {
+        let gaps = self.position_targets();
         self.constraints
             .iter()
-            .map(|c| {
+            .enumerate()
+            .map(|(row, c)| {
                 let residual = c
                     .evaluate(&self.traj, false)
                     .map(|(r, _)| r.norm())
@@ -525,6 +551,10 @@ impl Editor {
                         .unwrap_or_default(),
                     at,
                     residual,
+                    gap: gaps
+                        .iter()
+                        .find(|(t, _)| t.row == row)
+                        .and_then(|(_, g)| *g),
                 }
             })
             .collect()

@@ -1,7 +1,8 @@
 //! Replay keys through the real App on a `TestBackend` and measure.
 
+use super::keys::Step;
 use crate::edit::Core;
-use crate::tui::{App, Key, Theme, buffer_text, draw};
+use crate::tui::{App, Event, Theme, buffer_text, draw};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use ratatui::layout::Rect;
@@ -27,6 +28,19 @@ pub struct RunResult {
     pub render_ms: Vec<f64>,
     /// Whether a key quit the editor (the remaining keys were not replayed).
     pub quit: bool,
+    /// Command lines that did not parse (a misspelt command, a bad
+    /// number). Without `keep_going` the replay stops at the first.
+    pub failures: Vec<ScriptFailure>,
+}
+
+/// A command line of a script that did not parse.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{line}:{col}: {error}")]
+pub struct ScriptFailure {
+    /// Where the `<Enter>` that ran it was written (1-based).
+    pub line: usize,
+    pub col: usize,
+    pub error: crate::tui::CommandError,
 }
 
 /// Summary of a list of timings, ms.
@@ -79,7 +93,22 @@ impl RunResult {
 /// a key that changes nothing would draw the same screen again, and a long
 /// script of them would spend its time redrawing. A quit key ends the run
 /// early.
-pub fn run_script(core: &mut impl Core, keys: &[Key], size: (u16, u16)) -> RunResult {
+pub fn run_script<S: Copy + Into<Step>>(
+    core: &mut impl Core,
+    steps: &[S],
+    size: (u16, u16),
+) -> RunResult {
+    run_script_with(core, steps, size, false)
+}
+
+/// [`run_script`], going on past command lines that do not parse when
+/// `keep_going` (they are all listed in [`RunResult::failures`]).
+pub fn run_script_with<S: Copy + Into<Step>>(
+    core: &mut impl Core,
+    steps: &[S],
+    size: (u16, u16),
+    keep_going: bool,
+) -> RunResult {
     let (w, h) = size;
     let mut app = App::new(&core.view(), Rect::new(0, 0, w, h), Theme::COLOR);
     app.show_render_ms = false;
@@ -92,16 +121,29 @@ pub fn run_script(core: &mut impl Core, keys: &[Key], size: (u16, u16)) -> RunRe
     if let Ok(ms) = draw(&mut terminal, core, &mut app) {
         render_ms.push(ms);
     }
-    for key in keys {
+    let mut failures = Vec::new();
+    for step in steps {
+        let step: Step = (*step).into();
         let before = (app.clone(), core.dirty());
-        app.handle_key(core, *key);
+        match step.event {
+            Event::Key(key) => app.handle_key(core, key),
+            Event::Mouse(m) => app.handle_mouse(core, m),
+            Event::Resize(w, h) => app.resize(Rect::new(0, 0, w, h), &core.view()),
+            Event::Other => {}
+        }
+        let failed = app.take_command_error().map(|error| ScriptFailure {
+            line: step.line,
+            col: step.col,
+            error,
+        });
         app.flush(core);
         app.tick(core, FRAME_SECONDS);
         let applied = app.take_apply_ms();
         if !applied.is_empty() {
             update_ms.push(applied.iter().sum());
         }
-        let unchanged = applied.is_empty()
+        let unchanged = failed.is_none()
+            && applied.is_empty()
             && app.edits() == before.0.edits()
             && core.dirty() == before.1
             && app == before.0;
@@ -111,7 +153,9 @@ pub fn run_script(core: &mut impl Core, keys: &[Key], size: (u16, u16)) -> RunRe
         if let Ok(ms) = draw(&mut terminal, core, &mut app) {
             render_ms.push(ms);
         }
-        if app.quit {
+        let stop = failed.is_some() && !keep_going;
+        failures.extend(failed);
+        if app.quit || stop {
             break;
         }
     }
@@ -121,6 +165,7 @@ pub fn run_script(core: &mut impl Core, keys: &[Key], size: (u16, u16)) -> RunRe
         update_ms,
         render_ms,
         quit: app.quit,
+        failures,
     }
 }
 

@@ -126,7 +126,7 @@ pub struct UpdateResult {
 }
 
 /// Stack every constraint's residual (and rows).
-fn assemble(
+pub(super) fn assemble(
     traj: &Trajectory,
     constraints: &[Constraint],
     with_jac: bool,

@@ -13,8 +13,10 @@ use super::camera::{Camera, ViewKind};
 use super::command::{self, Command, MethodName, SETTLE_MS};
 use super::key::{Key, KeyCode, Mods};
 use super::keymap::{self, Action, Context, Sense};
+use super::layout;
+use super::mouse::{Mouse, MouseKind};
+use super::popup::{self, PopupKind};
 use super::theme::Theme;
-use super::widgets;
 use crate::edit::{Core, Edit, Expression, Outcome, Side, Vertical};
 use crate::files::WriteMode;
 use crate::math::Vec3;
@@ -24,6 +26,7 @@ use ratatui::layout::Rect;
 use std::time::Instant;
 
 mod commands;
+mod mouse;
 
 /// Where keys go.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -33,8 +36,9 @@ pub enum Input {
     Block,
     /// Typing a `:` command (the text so far, without the `:`).
     Command(String),
-    /// The help popup, scrolled this many lines.
-    Help {
+    /// A popup (help, messages, notes), scrolled this many lines.
+    Popup {
+        kind: PopupKind,
         scroll: u16,
     },
     /// Asking whether to quit with unsaved edits.
@@ -55,6 +59,9 @@ pub struct Message {
     pub text: String,
     pub level: Level,
 }
+
+/// Messages kept for `:messages` (the oldest go first).
+const LOG_LIMIT: usize = 1000;
 
 /// Largest count prefix.
 pub const MAX_COUNT: u32 = 9999;
@@ -97,6 +104,16 @@ pub struct App {
     pub show_render_ms: bool,
     /// Wall time of the last frame render, ms.
     pub render_ms: Option<f64>,
+    /// Whether the terminal reports the mouse to the editor (`:set mouse`).
+    pub mouse: bool,
+    /// Whether the motion before the last edit is drawn (`g`).
+    pub show_ghost: bool,
+    /// Every message so far, oldest first (at most [`LOG_LIMIT`]).
+    log: Vec<Message>,
+    /// The cell where the current mouse drag was last seen.
+    drag: Option<(u16, u16)>,
+    /// The last command line that did not parse, until taken.
+    command_error: Option<command::CommandError>,
     pending: Option<(StateQuantity, Vec3)>,
     rk4_step: f64,
     tolerance: f64,
@@ -137,6 +154,11 @@ impl App {
             theme,
             show_render_ms: true,
             render_ms: None,
+            mouse: true,
+            show_ghost: true,
+            log: Vec::new(),
+            drag: None,
+            command_error: None,
             pending: None,
             rk4_step: accuracy.window(),
             tolerance: 1e-9,
@@ -161,7 +183,7 @@ impl App {
             Input::Normal => Context::Normal,
             Input::Block => Context::Block,
             Input::Command(_) => Context::Command,
-            Input::Help { .. } => Context::Help,
+            Input::Popup { .. } => Context::Help,
             Input::Prompt => Context::Prompt,
         }
     }
@@ -196,7 +218,7 @@ impl App {
 
     /// Fit the camera to the scene for the current terminal size.
     pub fn refit(&mut self, view: &View) {
-        let canvas = widgets::canvas_inner(self.area);
+        let canvas = layout::canvas_inner(self.area);
         let points = view
             .paths
             .iter()
@@ -358,7 +380,18 @@ impl App {
                 let free = !block_is_free(&view, view.selected, block);
                 self.set_block(core, view.selected, block, free);
             }
-            Action::Cancel => self.input = Input::Normal,
+            Action::Cancel => {
+                self.input = Input::Normal;
+                self.drag = None;
+            }
+            Action::ToggleGhost => {
+                self.show_ghost = !self.show_ghost;
+                let shown = if self.show_ghost { "shown" } else { "hidden" };
+                self.say(
+                    Level::Info,
+                    format!("the motion before the last edit is {shown} (g toggles)"),
+                );
+            }
             Action::Settle => self.settle(core, SETTLE_MS),
             Action::Undo => self.repeat(core, Edit::Undo, count),
             Action::Redo => self.repeat(core, Edit::Redo, count),
@@ -419,18 +452,19 @@ impl App {
                     buf.clear();
                 }
             }
-            Action::Help => self.input = Input::Help { scroll: 0 },
-            Action::HelpScroll(sense) => {
-                if let Input::Help { scroll } = &mut self.input {
+            Action::Popup(kind) => self.open(kind),
+            Action::Scroll(sense) => {
+                if let Input::Popup { kind, scroll } = self.input {
                     let step = u16::try_from(count).unwrap_or(u16::MAX);
                     // Clamped, so scrolling back after overshooting the end
                     // moves at once.
-                    let max = super::widgets::HelpPopup::max_scroll(self.area);
-                    *scroll = match sense {
+                    let max = popup::max_scroll(kind, &self.log, &core.view().notes, self.area);
+                    let scroll = match sense {
                         Sense::Forward => scroll.saturating_add(step),
                         Sense::Back => scroll.saturating_sub(step),
                     }
                     .min(max);
+                    self.input = Input::Popup { kind, scroll };
                 }
             }
             Action::Quit => {
@@ -502,8 +536,9 @@ impl App {
         match result {
             Ok(outcome) => {
                 self.edits += 1;
-                if !outcome.diagnostics.is_empty() {
-                    self.say(Level::Warning, outcome.diagnostics.join("; "));
+                if !outcome.notes.is_empty() {
+                    let text: Vec<String> = outcome.notes.iter().map(ToString::to_string).collect();
+                    self.say(Level::Warning, text.join("; "));
                 }
                 Some(outcome)
             }
@@ -515,10 +550,35 @@ impl App {
     }
 
     fn say(&mut self, level: Level, text: impl Into<String>) {
-        self.message = Some(Message {
+        let message = Message {
             text: text.into(),
             level,
-        });
+        };
+        // A message repeated at once (the same unbound key pressed again)
+        // is logged once.
+        if self.log.last() != Some(&message) {
+            if self.log.len() >= LOG_LIMIT {
+                self.log.remove(0);
+            }
+            self.log.push(message.clone());
+        }
+        self.message = Some(message);
+    }
+
+    /// The last command line that did not parse, if any since the last
+    /// call (a key script stops there).
+    pub fn take_command_error(&mut self) -> Option<command::CommandError> {
+        self.command_error.take()
+    }
+
+    /// Every message so far, oldest first.
+    pub fn log(&self) -> &[Message] {
+        &self.log
+    }
+
+    /// Open a popup at its top.
+    fn open(&mut self, kind: PopupKind) {
+        self.input = Input::Popup { kind, scroll: 0 };
     }
 
     /// An informational message, unless the edit already left a diagnostic.

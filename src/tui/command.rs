@@ -78,6 +78,17 @@ pub enum Command {
     Body(String),
     /// `:delete K`: remove constraint row K.
     Delete(usize),
+    /// `:release K qty...`: stop holding these quantities in row K.
+    Release {
+        row: usize,
+        quantities: Vec<StateQuantity>,
+    },
+    /// `:messages`: every message so far.
+    Messages,
+    /// `:notes`: the scene's notes in full.
+    Notes,
+    /// `:set mouse on|off`.
+    SetMouse(bool),
     /// `:speed OTHER`: equal speed with another body.
     EqualSpeed(String),
     /// `:spin W`: angular speed equals W (rad/s).

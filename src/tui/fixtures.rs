@@ -5,7 +5,9 @@ use super::app::App;
 use super::theme::Theme;
 use crate::edit::{Core, Edit, EditError, Outcome, Saved};
 use crate::math::Vec3;
-use crate::view::{ConstraintRow, ControlRow, EventMark, Path, Status, View};
+use crate::view::{
+    ConstraintRow, ControlRow, EventMark, Neighbour, Path, Pose, Status, Target, View,
+};
 use ratatui::layout::Rect;
 use std::path::{Path as FsPath, PathBuf};
 
@@ -55,10 +57,12 @@ pub fn view() -> View {
         paths: vec![
             Path {
                 body: 0,
+                times: times(ball.len()),
                 points: ball,
             },
             Path {
                 body: 1,
+                times: times(boxp.len()),
                 points: boxp,
             },
         ],
@@ -71,7 +75,30 @@ pub fn view() -> View {
             point: Vec3::new(0.0, 0.0, 0.0),
             a: "ball".into(),
             b: "ground".into(),
-            grazing: false,
+            features: "ball on plane".into(),
+            approach: 4.4,
+            separation: 3.5,
+            ..EventMark::default()
+        }],
+        ghost: Vec::new(),
+        pose: Some(Pose {
+            position: Vec3::new(-0.2, 0.0, 0.36),
+            angle_deg: 0.0,
+            axis: Vec3::z(),
+            tilt_deg: 0.0,
+            velocity: Vec3::new(1.0, 0.0, -2.0),
+            angular_velocity: Vec3::zeros(),
+            previous: None,
+            next: Some(Neighbour {
+                index: 0,
+                t: 1.0,
+                other: "ground".into(),
+            }),
+        }),
+        targets: vec![Target {
+            row: 0,
+            body: 0,
+            point: Vec3::new(0.7, 0.0, 0.5),
         }],
         controls: vec![
             row("ball.position.x", -0.5, 0.0, true),
@@ -86,6 +113,7 @@ pub fn view() -> View {
             body: "ball".into(),
             at: "t=1.500".into(),
             residual: 3.2e-9,
+            gap: Some(3.2e-9),
         }],
         status: Status {
             update_ms: 3.1,
@@ -100,6 +128,13 @@ pub fn view() -> View {
         dirty: false,
         accuracy: Default::default(),
     }
+}
+
+/// `n` times evenly over the fixture's 2 s.
+fn times(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| 2.0 * k as f64 / (n.max(2) - 1) as f64)
+        .collect()
 }
 
 /// An App over `view` for a `w × h` terminal, plain theme, no render times.
@@ -142,6 +177,7 @@ impl Core for FakeCore {
                 None => return Err(EditError::Invalid(format!("no event {k}"))),
             },
             Edit::Nudge { delta, .. } => {
+                v.ghost = v.paths.clone();
                 let body = v.selected;
                 for p in v.paths.iter_mut().filter(|p| p.body == body) {
                     for q in &mut p.points {
@@ -156,6 +192,7 @@ impl Core for FakeCore {
                     body: v.bodies[v.selected].clone(),
                     at: format!("t={:.3}", v.time),
                     residual: 0.0,
+                    gap: None,
                 });
                 self.dirty = true;
             }
@@ -172,7 +209,7 @@ impl Core for FakeCore {
         Ok(Outcome {
             updates: 1,
             elapsed_ms: 0.0,
-            diagnostics: Vec::new(),
+            ..Outcome::default()
         })
     }
 

@@ -5,6 +5,7 @@
 use super::camera::ViewKind;
 use super::command::{COMMAND_NOTES, usage_rows};
 use super::key::{Key, KeyCode};
+use super::popup::PopupKind;
 use crate::scene::{Block, StateQuantity};
 
 /// Where input goes: each context has its own bindings.
@@ -38,7 +39,7 @@ impl Context {
             Context::Normal => "editing",
             Context::Block => "after b: control block",
             Context::Command => "command line (:)",
-            Context::Help => "help popup",
+            Context::Help => "popups (?, :messages, :notes)",
             Context::Prompt => "quit prompt (unsaved edits)",
         }
     }
@@ -148,10 +149,12 @@ pub enum Action {
     CommandBackspace,
     /// Clear the command line.
     CommandClear,
-    /// Open the key help.
-    Help,
-    /// Scroll the help.
-    HelpScroll(Sense),
+    /// Open a popup: the key help, the message log.
+    Popup(PopupKind),
+    /// Scroll the popup.
+    Scroll(Sense),
+    /// Show or hide the motion before the last edit.
+    ToggleGhost,
     /// Quit (asks first when there are unsaved edits).
     Quit,
     /// Quit and discard unsaved edits (from the prompt).
@@ -177,7 +180,7 @@ impl Action {
                 | Action::Pitch(_)
                 | Action::Pan(_)
                 | Action::Zoom(_)
-                | Action::HelpScroll(_)
+                | Action::Scroll(_)
         )
     }
 
@@ -215,8 +218,9 @@ impl Action {
             Action::CommandRun => "CommandRun",
             Action::CommandBackspace => "CommandBackspace",
             Action::CommandClear => "CommandClear",
-            Action::Help => "Help",
-            Action::HelpScroll(_) => "HelpScroll",
+            Action::Popup(_) => "Popup",
+            Action::Scroll(_) => "Scroll",
+            Action::ToggleGhost => "ToggleGhost",
             Action::Quit => "Quit",
             Action::ConfirmQuit => "ConfirmQuit",
             Action::SaveQuit => "SaveQuit",
@@ -259,8 +263,9 @@ impl Action {
             Action::CommandRun,
             Action::CommandBackspace,
             Action::CommandClear,
-            Action::Help,
-            Action::HelpScroll(Sense::Back),
+            Action::Popup(PopupKind::Help),
+            Action::Scroll(Sense::Back),
+            Action::ToggleGhost,
             Action::Quit,
             Action::ConfirmQuit,
             Action::SaveQuit,
@@ -400,11 +405,13 @@ pub static KEYMAP: &[Binding] = &[
     bind(ch('Z'), Nrm, Action::Zoom(Sense::Back), "zoom out"),
     bind(ch('_'), Nrm, Action::Zoom(Sense::Back), "zoom out"),
     bind(ch('0'), Nrm, Action::ResetView, "fit the scene, reset the orbit"),
+    bind(ch('g'), Nrm, Action::ToggleGhost, "show/hide the motion before the last edit"),
     // The rest.
     bind(ch(':'), Nrm, Action::CommandLine, "command line (:help lists commands)"),
-    hint(ch('?'), Nrm, Action::Help, "this help", "help"),
+    hint(ch('?'), Nrm, Action::Popup(PopupKind::Help), "this help", "help"),
+    bind(ch('M'), Nrm, Action::Popup(PopupKind::Messages), "every message so far (:messages)"),
     hint(ch('q'), Nrm, Action::Quit, "quit (asks when there are unsaved edits)", "quit"),
-    bind(code(KeyCode::Esc), Nrm, Action::Quit, "quit as q; with a count typed, clears the count"),
+    bind(code(KeyCode::Esc), Nrm, Action::Cancel, "cancel a count or a drag; never quits"),
     // After `b`.
     hint(ch('p'), Blk, Action::ToggleBlock(Block::Position), "initial position", "block"),
     hint(ch('o'), Blk, Action::ToggleBlock(Block::Orientation), "initial orientation", "block"),
@@ -418,13 +425,13 @@ pub static KEYMAP: &[Binding] = &[
     hint(code(KeyCode::Esc), Cmd, Action::Cancel, "cancel", "cancel"),
     hint(code(KeyCode::Backspace), Cmd, Action::CommandBackspace, "delete a character (on empty: cancel)", "delete"),
     bind(ch('u').ctrl(), Cmd, Action::CommandClear, "clear the line"),
-    // Help popup.
-    hint(ch('j'), Hlp, Action::HelpScroll(Sense::Forward), "scroll down", "scroll"),
-    hint(ch('k'), Hlp, Action::HelpScroll(Sense::Back), "scroll up", "scroll"),
-    bind(code(KeyCode::Down), Hlp, Action::HelpScroll(Sense::Forward), "scroll down"),
-    bind(code(KeyCode::Up), Hlp, Action::HelpScroll(Sense::Back), "scroll up"),
-    bind(code(KeyCode::PageDown), Hlp, Action::HelpScroll(Sense::Forward), "scroll down"),
-    bind(code(KeyCode::PageUp), Hlp, Action::HelpScroll(Sense::Back), "scroll up"),
+    // Popups.
+    hint(ch('j'), Hlp, Action::Scroll(Sense::Forward), "scroll down", "scroll"),
+    hint(ch('k'), Hlp, Action::Scroll(Sense::Back), "scroll up", "scroll"),
+    bind(code(KeyCode::Down), Hlp, Action::Scroll(Sense::Forward), "scroll down"),
+    bind(code(KeyCode::Up), Hlp, Action::Scroll(Sense::Back), "scroll up"),
+    bind(code(KeyCode::PageDown), Hlp, Action::Scroll(Sense::Forward), "scroll down"),
+    bind(code(KeyCode::PageUp), Hlp, Action::Scroll(Sense::Back), "scroll up"),
     hint(ch('?'), Hlp, Action::Cancel, "close", "close"),
     bind(ch('q'), Hlp, Action::Cancel, "close"),
     bind(code(KeyCode::Esc), Hlp, Action::Cancel, "close"),

@@ -9,6 +9,7 @@
 
 use super::app::App;
 use super::key::Key;
+use super::mouse::Mouse;
 use super::theme::Theme;
 use super::widgets::Screen;
 use crate::edit::Core;
@@ -22,9 +23,11 @@ use std::time::{Duration, Instant};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Event {
     Key(Key),
+    /// The left button or the wheel (when mouse capture is on).
+    Mouse(Mouse),
     /// New terminal size, columns × rows.
     Resize(u16, u16),
-    /// Anything else (focus, mouse, key releases): ignored.
+    /// Anything else (focus, other buttons, key releases): ignored.
     Other,
 }
 
@@ -34,6 +37,11 @@ pub trait EventSource {
     fn poll(&mut self, timeout: Duration) -> io::Result<bool>;
     /// The next event (blocks until there is one).
     fn read(&mut self) -> io::Result<Event>;
+    /// Ask the terminal to report the mouse, or to stop (so its own text
+    /// selection works). Sources without a terminal ignore it.
+    fn set_mouse(&mut self, _on: bool) -> io::Result<()> {
+        Ok(())
+    }
 }
 
 /// Events from the real terminal, through crossterm. Signals and a
@@ -61,9 +69,19 @@ impl EventSource for TerminalEvents {
         use ratatui::crossterm::event::Event as E;
         Ok(match ratatui::crossterm::event::read()? {
             E::Key(k) => Key::from_crossterm(k).map_or(Event::Other, Event::Key),
+            E::Mouse(m) => Mouse::from_crossterm(m).map_or(Event::Other, Event::Mouse),
             E::Resize(w, h) => Event::Resize(w, h),
             _ => Event::Other,
         })
+    }
+
+    fn set_mouse(&mut self, on: bool) -> io::Result<()> {
+        use ratatui::crossterm::event::{DisableMouseCapture, EnableMouseCapture};
+        if on {
+            ratatui::crossterm::execute!(io::stdout(), EnableMouseCapture)
+        } else {
+            ratatui::crossterm::execute!(io::stdout(), DisableMouseCapture)
+        }
     }
 }
 
@@ -127,7 +145,12 @@ pub fn event_loop<B: Backend, C: Core, E: EventSource>(
     events: &mut E,
 ) -> io::Result<()> {
     let mut last_tick = Instant::now();
+    let mut captured = None;
     loop {
+        if captured != Some(app.mouse) {
+            events.set_mouse(app.mouse)?;
+            captured = Some(app.mouse);
+        }
         draw(terminal, core, app)?;
         if app.quit {
             return Ok(());
@@ -142,6 +165,7 @@ pub fn event_loop<B: Backend, C: Core, E: EventSource>(
             loop {
                 match events.read()? {
                     Event::Key(key) => app.handle_key(core, key),
+                    Event::Mouse(m) => app.handle_mouse(core, m),
                     Event::Resize(w, h) => app.resize(Rect::new(0, 0, w, h), &core.view()),
                     Event::Other => {}
                 }
@@ -222,7 +246,9 @@ mod tests {
         core.dirty = true;
         let mut events = vec![Event::Resize(100, 30), Event::Key(Key::char('q'))];
         events.push(Event::Key(Key::char('n')));
+        // Esc never quits: it is a no-op here, and q asks again.
         events.push(Event::Key(Key::new(KeyCode::Esc)));
+        events.push(Event::Key(Key::char('q')));
         events.push(Event::Key(Key::char('y')));
         let app = run_events(&mut core, events).expect("quits after y");
         assert_eq!(app.area, Rect::new(0, 0, 100, 30));

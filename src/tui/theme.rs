@@ -72,6 +72,22 @@ impl Theme {
         self.paint(Color::White)
     }
 
+    /// The motion before the last edit (drawn dotted in every mode).
+    pub fn ghost(self) -> Color {
+        self.paint(Color::DarkGray)
+    }
+
+    /// Constraint targets on the plot.
+    pub fn target(self) -> Style {
+        self.fg(Color::LightMagenta).add_modifier(Modifier::BOLD)
+    }
+
+    /// The cells the selected body's outline passes through: bold and
+    /// reversed, so it stands out without colour too.
+    pub fn selected_cells(self) -> Style {
+        Style::new().add_modifier(Modifier::BOLD | Modifier::REVERSED)
+    }
+
     /// Collision event marks.
     pub fn event(self) -> Style {
         self.fg(Color::LightRed).add_modifier(Modifier::BOLD)

@@ -1,85 +1,28 @@
 //! Pure rendering: widgets over a [`View`] and the [`App`]'s UI state.
-//! Nothing here changes state or runs the simulator.
-//!
-//! Layout at 80×24 (the design size):
-//!
-//! ```text
-//! ┌ scene · front ─────────────────────────────┐─ controls ────────────────
-//! │ braille canvas: obstacles, paths, bodies,   │ ● ball.v.x  1.25  +0.01  1
-//! │ events                                      │─ constraints ─────────────
-//! └─────────────────────────────────────────────┘▸nail  ball  t=1.25  3e-9
-//!  1.250 ─────────┼──────●───────┼──────────── 3.000   ← timeline
-//!  POS  ball  t=1.250  upd 3.1ms  r=3e-9 …                ← status
-//!  hjkl nudge  [] time  …     (or the message / : command line)
-//! ```
+//! Nothing here changes state or runs the simulator; where each widget
+//! goes is [`super::layout`]'s.
 
 mod help;
 mod panel;
+mod readout;
 mod scene;
 mod status;
 mod timeline;
 
-pub use help::HelpPopup;
+pub use help::Popup;
 pub use panel::{ConstraintsPanel, ControlsPanel};
+pub use readout::Readout;
 pub use scene::SceneCanvas;
 pub use status::{BottomLine, StatusLine};
 pub use timeline::Timeline;
 
 use super::app::{App, Input};
+use super::layout::{self, areas, too_small};
+pub use super::layout::{MIN_HEIGHT, MIN_WIDTH};
 use crate::view::View;
 use ratatui::buffer::Buffer;
-use ratatui::layout::{Alignment, Constraint, Layout, Rect};
-use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
-
-/// Smallest terminal the editor draws in; below it a notice is shown.
-pub const MIN_WIDTH: u16 = 60;
-pub const MIN_HEIGHT: u16 = 16;
-
-/// The screen's areas.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Areas {
-    /// The scene canvas, border included.
-    pub canvas: Rect,
-    /// The side panel (controls above constraints).
-    pub side: Rect,
-    pub timeline: Rect,
-    pub status: Rect,
-    /// Hints, messages, the command line or a prompt.
-    pub bottom: Rect,
-}
-
-/// Split the terminal area. The side panel is 35% of the width, 24 to 44
-/// columns (28 at 80 columns).
-pub fn areas(area: Rect) -> Areas {
-    let [main, timeline, status, bottom] = area.layout(&Layout::vertical([
-        Constraint::Fill(1),
-        Constraint::Length(1),
-        Constraint::Length(1),
-        Constraint::Length(1),
-    ]));
-    let side_w = (u32::from(area.width) * 35 / 100).clamp(24, 44) as u16;
-    let [canvas, side] = main.layout(&Layout::horizontal([
-        Constraint::Fill(1),
-        Constraint::Length(side_w),
-    ]));
-    Areas {
-        canvas,
-        side,
-        timeline,
-        status,
-        bottom,
-    }
-}
-
-/// The drawable inside of the canvas for a terminal of `area`.
-pub fn canvas_inner(area: Rect) -> Rect {
-    Block::bordered().inner(areas(area).canvas)
-}
-
-/// Whether `area` is below the minimum size.
-pub fn too_small(area: Rect) -> bool {
-    area.width < MIN_WIDTH || area.height < MIN_HEIGHT
-}
+use ratatui::layout::{Alignment, Rect};
+use ratatui::widgets::{Paragraph, Widget, Wrap};
 
 /// The whole screen.
 #[derive(Debug, Clone, Copy)]
@@ -108,17 +51,20 @@ impl Widget for &Screen<'_> {
             camera: &app.camera,
             theme,
             playing: app.playing,
+            show_ghost: app.show_ghost,
         }
         .render(a.canvas, buf);
-        let constraint_rows = view.constraints.len().max(1) as u16;
-        let [controls, constraints] = a.side.layout(&Layout::vertical([
-            Constraint::Fill(1),
-            Constraint::Length((constraint_rows + 1).min(a.side.height / 2).max(2)),
-        ]));
-        (&ControlsPanel { view, theme }).render(controls, buf);
+        let [readout, controls, constraints] = layout::side(a.side, view.constraints.len());
         let selected = app
             .selected_constraint
             .min(view.constraints.len().saturating_sub(1));
+        (&Readout {
+            view,
+            theme,
+            selected,
+        })
+            .render(readout, buf);
+        (&ControlsPanel { view, theme }).render(controls, buf);
         (&ConstraintsPanel {
             view,
             theme,
@@ -128,8 +74,17 @@ impl Widget for &Screen<'_> {
         (&Timeline { view, theme }).render(a.timeline, buf);
         (&StatusLine { view, app }).render(a.status, buf);
         (&BottomLine { view, app }).render(a.bottom, buf);
-        if let Input::Help { scroll } = app.input {
-            (&HelpPopup { theme, scroll }).render(area, buf);
+        if let Input::Popup { kind, scroll } = app.input {
+            let log = app.log();
+            let notes = &view.notes;
+            (&Popup {
+                kind,
+                log,
+                notes,
+                theme,
+                scroll,
+            })
+                .render(area, buf);
         }
     }
 }
@@ -197,14 +152,6 @@ mod tests {
         let mut buf = Buffer::empty(area);
         (&Screen::new(view, app)).render(area, &mut buf);
         buf
-    }
-
-    #[test]
-    fn layout_at_80x24_gives_a_28_column_side_panel() {
-        let a = areas(Rect::new(0, 0, 80, 24));
-        assert_eq!(a.side.width, 28);
-        assert_eq!(a.canvas, Rect::new(0, 0, 52, 21));
-        assert_eq!((a.timeline.y, a.status.y, a.bottom.y), (21, 22, 23));
     }
 
     #[test]
@@ -310,7 +257,10 @@ mod tests {
         let mut app = fixtures::app(&view, 80, 24);
         for input in [
             Input::Normal,
-            Input::Help { scroll: 0 },
+            Input::Popup {
+                kind: crate::tui::popup::PopupKind::Help,
+                scroll: 0,
+            },
             Input::Command("set".into()),
         ] {
             app.input = input;

@@ -224,9 +224,12 @@ fn grazing_contact_makes_the_solver_and_editor_fall_back_to_sampling() {
         })
         .expect("the nudge is applied or blocked, not refused");
     assert!(
-        out.diagnostics.iter().any(|d| d.contains("grazing")),
+        out.notes.iter().any(|d| matches!(
+            d,
+            nudge::edit::Note::Solver(nudge::solve::Diagnostic::Grazing(_))
+        )),
         "{:?}",
-        out.diagnostics
+        out.notes
     );
     assert!(e.controls().values(e.scene()).iter().all(|v| v.is_finite()));
 }

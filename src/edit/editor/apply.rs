@@ -10,8 +10,12 @@ impl Editor {
         let before = self.snapshot();
         let old_values = self.values();
         let mut changed = true;
-        let mut diagnostics: Vec<String> = Vec::new();
+        let mut notes: Vec<Note> = Vec::new();
+        let mut anchored = None;
+        let mut reverted = None;
+        let label = self.describe(&edit);
         let (revision0, accuracy0) = (self.revision, self.scene.accuracy);
+        let paths0 = self.paths.clone();
         let adds_constraint = matches!(
             edit,
             Edit::Nail { .. } | Edit::Float { .. } | Edit::Expression(_) | Edit::Vertical { .. }
@@ -34,6 +38,12 @@ impl Editor {
                     )));
                 }
                 self.time = t.clamp(0.0, self.scene.duration);
+                if t > self.scene.duration {
+                    notes.push(Note::TimeClamped {
+                        asked: t,
+                        to: self.time,
+                    });
+                }
                 changed = false;
             }
             Edit::SelectEvent(k) => {
@@ -47,8 +57,7 @@ impl Editor {
                 changed = false;
             }
             Edit::Nudge { quantity, delta } => {
-                let d = self.nudge(quantity, delta)?;
-                diagnostics.extend(d.iter().map(|x| x.to_string()));
+                notes.extend(self.nudge(quantity, delta)?);
                 changed = self.updates > updates0 && self.values() != old_values;
             }
             Edit::Nail { quantities, exact } => {
@@ -65,6 +74,7 @@ impl Editor {
                     kind: Kind::State { quantities, target },
                     drag: false,
                 });
+                anchored = Some(Anchored::Time(self.time));
             }
             Edit::Float {
                 quantities,
@@ -90,6 +100,11 @@ impl Editor {
                     anchor: Anchor::Event { collision: k, side },
                     kind: Kind::State { quantities, target },
                     drag: false,
+                });
+                anchored = Some(Anchored::Collision {
+                    collision: k,
+                    event: e.index,
+                    side,
                 });
             }
             Edit::Expression(x) => {
@@ -142,15 +157,23 @@ impl Editor {
             }
             Edit::Vertical { goal, side } => {
                 let anchor = match side {
-                    None => Anchor::Time(self.time),
+                    None => {
+                        anchored = Some(Anchored::Time(self.time));
+                        Anchor::Time(self.time)
+                    }
                     Some(side) => {
-                        let (collision, _) = self.nearest_collision().ok_or_else(|| {
+                        let (collision, event) = self.nearest_collision().ok_or_else(|| {
                             invalid(format!(
                                 "{} has no collision to hold it {} at",
                                 self.scene.bodies[self.selected].name,
                                 goal.word()
                             ))
                         })?;
+                        anchored = Some(Anchored::Collision {
+                            collision,
+                            event: self.traj.events[event].index,
+                            side,
+                        });
                         Anchor::Event { collision, side }
                     }
                 };
@@ -176,6 +199,7 @@ impl Editor {
                 }
                 self.constraints.remove(i);
             }
+            Edit::Release { row, quantities } => self.release(row, &quantities)?,
             Edit::SetBlock { body, block, free } => {
                 let b = self
                     .scene
@@ -277,12 +301,14 @@ impl Editor {
             }
             Edit::Settle { budget_ms } => {
                 let d = self.settle(budget_ms)?;
-                diagnostics.extend(d.iter().map(|x| x.to_string()));
+                notes.extend(d.into_iter().map(Note::Solver));
                 changed = self.values() != old_values;
             }
             Edit::Undo => {
                 let s = self.undo.pop().ok_or_else(|| invalid("nothing to undo"))?;
-                let now = self.snapshot();
+                let mut now = self.snapshot();
+                now.label = s.label.clone();
+                reverted = Some(s.label.clone());
                 if let Err(e) = self.restore(s.clone()) {
                     self.undo.push(s);
                     return Err(e);
@@ -293,7 +319,9 @@ impl Editor {
             }
             Edit::Redo => {
                 let s = self.redo.pop().ok_or_else(|| invalid("nothing to redo"))?;
-                let now = self.snapshot();
+                let mut now = self.snapshot();
+                now.label = s.label.clone();
+                reverted = Some(s.label.clone());
                 if let Err(e) = self.restore(s.clone()) {
                     self.redo.push(s);
                     return Err(e);
@@ -310,20 +338,27 @@ impl Editor {
             return Err(EditError::TargetOutOfRange);
         }
         if changed {
-            self.commit(before, old_values);
+            self.commit(Snapshot { label, ..before }, old_values);
             self.refresh_geometry();
+        }
+        if self.revision != revision0 && self.paths != paths0 {
+            // The motion before this edit stays drawn until the next edit
+            // that changes it.
+            self.ghost = paths0;
         }
         if self.revision != revision0 || self.scene.accuracy != accuracy0 {
             // The motion changed: so may its accuracy.
-            diagnostics.extend(self.estimate_error());
+            notes.extend(self.estimate_error().map(Note::Accuracy));
         }
         self.status.residual = self.residual();
-        self.status.message = diagnostics.last().cloned();
+        self.status.message = notes.last().map(ToString::to_string);
         self.edits += 1;
         Ok(Outcome {
             updates: self.updates - updates0,
             elapsed_ms: started.elapsed().as_secs_f64() * 1e3,
-            diagnostics,
+            notes,
+            anchored,
+            reverted,
         })
     }
 }

@@ -37,14 +37,7 @@ impl Core for Editor {
             .traj
             .events
             .iter()
-            .map(|e| view::EventMark {
-                index: e.index,
-                t: e.t,
-                point: e.point,
-                a: report::party_name(&self.scene, Party::Body(e.a)),
-                b: report::party_name(&self.scene, e.b),
-                grazing: e.grazing,
-            })
+            .map(|e| self.event_mark(e))
             .collect();
         let controls = self
             .controls
@@ -59,16 +52,7 @@ impl Core for Editor {
                 scale: e.scale,
             })
             .collect();
-        let constraints = self
-            .constraint_rows()
-            .into_iter()
-            .map(|r| view::ConstraintRow {
-                kind: r.kind,
-                body: r.body,
-                at: r.at,
-                residual: r.residual,
-            })
-            .collect();
+        let constraints = self.constraint_rows();
         let others = (0..self.scene.bodies.len())
             .filter(|&i| i != self.selected)
             .flat_map(|i| self.body_lines(i))
@@ -81,6 +65,13 @@ impl Core for Editor {
             bodies: self.scene.bodies.iter().map(|b| b.name.clone()).collect(),
             selected: self.selected,
             paths: self.paths.clone(),
+            ghost: self.ghost.clone(),
+            pose: self.pose(),
+            targets: self
+                .position_targets()
+                .into_iter()
+                .map(|(t, _)| t)
+                .collect(),
             obstacles: self.obstacle_lines.clone(),
             selected_outline: if self.scene.bodies.is_empty() {
                 Vec::new()

@@ -5,10 +5,32 @@
 use super::*;
 
 impl App {
+    /// Undo or redo `count` times, saying what was undone or redone.
     pub(super) fn repeat(&mut self, core: &mut impl Core, edit: Edit, count: u32) {
+        let mut done = Vec::new();
         for _ in 0..count {
-            if self.apply(core, edit.clone()).is_none() {
-                break;
+            match self.apply(core, edit.clone()) {
+                Some(o) => done.extend(o.reverted),
+                None => break,
+            }
+        }
+        let verb = if edit == Edit::Undo { "undid" } else { "redid" };
+        match done.as_slice() {
+            [] => {}
+            [one] => self.say_info(format!("{verb} the {one}")),
+            [first, .., last] => self.say_info(format!(
+                "{verb} {} edits, from the {first} to the {last}",
+                done.len()
+            )),
+        }
+    }
+
+    /// Go to event `k` and say what collided there.
+    pub(super) fn go_to_event(&mut self, core: &mut impl Core, k: usize) {
+        if self.apply(core, Edit::SelectEvent(k)).is_some() {
+            let view = core.view();
+            if let Some(e) = view.events.iter().find(|e| e.index == k) {
+                self.say_info(e.describe());
             }
         }
     }
@@ -33,9 +55,7 @@ impl App {
             }
         };
         match target {
-            Some(k) => {
-                self.apply(core, Edit::SelectEvent(k));
-            }
+            Some(k) => self.go_to_event(core, k),
             None => {
                 let which = if sense == Sense::Forward {
                     "later"
@@ -78,37 +98,33 @@ impl App {
     ) {
         let view = core.view();
         let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
-        // The body's collisions, numbered as the constraints panel does.
-        let nearest = view
-            .events
-            .iter()
-            .filter(|e| e.t.is_finite() && (e.a == body || e.b == body))
-            .enumerate()
-            .min_by(|x, y| {
-                (x.1.t - view.time)
-                    .abs()
-                    .total_cmp(&(y.1.t - view.time).abs())
-            });
-        let side = side.unwrap_or(match nearest {
-            Some((_, e)) if view.time < e.t => Side::Pre,
-            _ => Side::Post,
-        });
+        // Without a side: `pre` if the nearest collision is still ahead.
+        let ahead = view
+            .pose
+            .as_ref()
+            .map(|p| {
+                let gap = |n: &Option<crate::view::Neighbour>| {
+                    n.as_ref()
+                        .map_or(f64::INFINITY, |n| (n.t - view.time).abs())
+                };
+                gap(&p.next) < gap(&p.previous)
+            })
+            .unwrap_or(false);
+        let side = side.unwrap_or(if ahead { Side::Pre } else { Side::Post });
         let names = quantity_names(&quantities);
         let typed = !exact.is_empty();
-        if self
-            .apply(
-                core,
-                Edit::Float {
-                    quantities,
-                    exact,
-                    side,
-                },
-            )
-            .is_some()
-        {
-            let at = nearest
-                .map(|(k, e)| format!(" at its collision #{k} (event {})", e.index))
-                .unwrap_or_default();
+        let edit = Edit::Float {
+            quantities,
+            exact,
+            side,
+        };
+        if let Some(outcome) = self.apply(core, edit) {
+            let at = match outcome.anchored {
+                Some(crate::edit::Anchored::Collision {
+                    collision, event, ..
+                }) => format!(" at its collision #{collision} (event {event})"),
+                _ => String::new(),
+            };
             let side = side.word();
             let hint = settle_hint(typed, &core.view());
             self.say_info(format!("floating {names} of {body}{at} ({side}){hint}"));
@@ -252,6 +268,7 @@ impl App {
             Ok(cmd) => cmd,
             Err(e) => {
                 self.say(Level::Error, e.to_string());
+                self.command_error = Some(e);
                 return;
             }
         };
@@ -348,8 +365,28 @@ impl App {
             Command::Time(t) => {
                 self.apply(core, Edit::SelectTime(t));
             }
-            Command::Event(k) => {
-                self.apply(core, Edit::SelectEvent(k));
+            Command::Event(k) => self.go_to_event(core, k),
+            Command::Release { row, quantities } => {
+                let names = quantity_names(&quantities);
+                if self
+                    .apply(core, Edit::Release { row, quantities })
+                    .is_some()
+                {
+                    self.say_info(format!("constraint row {row} no longer holds {names}"));
+                }
+            }
+            Command::Messages => self.open(PopupKind::Messages),
+            Command::Notes => self.open(PopupKind::Notes),
+            Command::SetMouse(on) => {
+                self.mouse = on;
+                self.say(
+                    Level::Info,
+                    if on {
+                        "mouse on: click a trace to select, drag to nudge, wheel zooms"
+                    } else {
+                        "mouse off: the terminal selects text (:set mouse on to edit with it)"
+                    },
+                );
             }
             Command::Body(b) => {
                 if let Some(i) = self.body_index(&view, &b) {
@@ -405,7 +442,7 @@ impl App {
                 }
             }
             Command::ForceQuit => self.quit = true,
-            Command::Help => self.input = Input::Help { scroll: 0 },
+            Command::Help => self.open(PopupKind::Help),
         }
     }
 }

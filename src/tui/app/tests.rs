@@ -5,7 +5,17 @@ use crate::tui::fixtures::{self, FakeCore};
 fn session(script: &str) -> (App, FakeCore) {
     let mut core = fixtures::core();
     let mut app = fixtures::app(&core.view(), 80, 24);
-    for key in parse_keys(script, "test").unwrap_or_default() {
+    // A script may end inside a command line (to look at the typed text):
+    // parse it closed by <Esc> and leave the <Esc> out.
+    let keys = match parse_keys(script, "test") {
+        Ok(keys) => keys,
+        Err(_) => {
+            let mut keys = parse_keys(&format!("{script}<Esc>"), "test").expect("keys parse");
+            keys.pop();
+            keys
+        }
+    };
+    for key in keys {
         app.handle_key(&mut core, key);
         app.flush(&mut core);
     }

@@ -84,6 +84,10 @@ pub const COMMANDS: &[CommandSpec] = &[
                 "scale (diagonal of M) of a control kind",
             ),
             (":set nudge 0.01", "nudge step of the current mode"),
+            (
+                ":set mouse on|off",
+                "mouse editing; off: the terminal selects",
+            ),
         ],
         parse: |w, _, _| set(w),
     },
@@ -141,6 +145,31 @@ pub const COMMANDS: &[CommandSpec] = &[
             w.no_more(2)?;
             Ok(Command::Delete(k))
         },
+    },
+    CommandSpec {
+        names: &["release"],
+        usage: &[(":release 2 qty..", "stop holding qty in constraint row 2")],
+        parse: |w, _, _| {
+            let row = w.index(1, "constraint row")?;
+            if w.get(2).is_none() {
+                return Err(w.err(1, "missing quantity: which to release, e.g. orientation"));
+            }
+            let (quantities, exact) = w.targets(2)?;
+            if !exact.is_empty() {
+                return Err(w.err(2, "release takes quantities only, no values"));
+            }
+            Ok(Command::Release { row, quantities })
+        },
+    },
+    CommandSpec {
+        names: &["messages", "mes"],
+        usage: &[(":messages", "every message so far (M)")],
+        parse: |w, _, _| w.no_more(1).map(|()| Command::Messages),
+    },
+    CommandSpec {
+        names: &["notes"],
+        usage: &[(":notes", "the scene's notes in full")],
+        parse: |w, _, _| w.no_more(1).map(|()| Command::Notes),
     },
     CommandSpec {
         names: &["speed"],
@@ -302,12 +331,20 @@ fn free_or_fix(w: &Words, free: bool) -> Result<Command, CommandError> {
 }
 
 fn set(w: &Words) -> Result<Command, CommandError> {
-    let what = w.need(1, "setting (tol, step, method, roottol, scale, nudge)")?;
+    let what = w.need(
+        1,
+        "setting (tol, step, method, roottol, scale, nudge, mouse)",
+    )?;
     let cmd = match what {
         "tol" => Command::SetTol(w.positive(2, "tolerance")?),
         "step" => Command::SetStep(w.positive(2, "step")?),
         "roottol" => Command::SetRootTol(w.positive(2, "tolerance")?),
         "nudge" => Command::SetNudge(w.positive(2, "nudge step")?),
+        "mouse" => match w.need(2, "on or off")? {
+            "on" => Command::SetMouse(true),
+            "off" => Command::SetMouse(false),
+            _ => return Err(w.err(2, "expected on or off")),
+        },
         "method" => match w.need(2, "method (rk4 or adaptive)")? {
             "rk4" => Command::SetMethod(MethodName::Rk4),
             "adaptive" | "dopri5" => Command::SetMethod(MethodName::Adaptive),
@@ -329,7 +366,7 @@ fn set(w: &Words) -> Result<Command, CommandError> {
         _ => {
             return Err(w.err(
                 1,
-                "unknown setting; expected tol, step, method, roottol, scale or nudge",
+                "unknown setting; expected tol, step, method, roottol, scale, nudge or mouse",
             ));
         }
     };

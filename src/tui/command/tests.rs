@@ -298,6 +298,7 @@ fn every_usage_row_parses_when_filled_in() {
                 w if i == 0 => w,
                 "body" | "name" | "other" => "ball",
                 "block" => "velocity",
+                "qty.." => "orientation",
                 w => w,
             };
             line.push_str(word);

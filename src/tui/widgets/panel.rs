@@ -31,18 +31,19 @@ pub struct ConstraintsPanel<'a> {
 
 /// Short names of control-name segments, used when a full name does not fit.
 const SHORT: &[(&str, &str)] = &[
-    ("position", "p"),
-    ("orientation", "r"),
-    ("velocity", "v"),
-    ("angular_velocity", "w"),
+    ("position", "pos"),
+    ("orientation", "rot"),
+    ("velocity", "vel"),
+    ("angular_velocity", "ω"),
     ("mass", "m"),
     ("inertia", "I"),
     ("normal", "n"),
     ("restitution", "e"),
 ];
 
-/// `name` within `width` characters: as is, else with block names
-/// shortened (`ball.velocity.x` → `ball.v.x`), else cut in the body part.
+/// `name` within `width` characters: as is; else the body, a space and
+/// the short quantity (`egg1.velocity.x` → `egg1 vel.x`, `plank ω.y`);
+/// else with the body cut so the quantity stays whole.
 pub fn short_control_name(name: &str, width: usize) -> String {
     if name.chars().count() <= width {
         return name.to_string();
@@ -57,15 +58,18 @@ pub fn short_control_name(name: &str, width: usize) -> String {
                 .map_or(*p, |(_, s)| *s)
         })
         .collect();
-    let joined = short.join(".");
-    if joined.chars().count() <= width || short.len() < 2 {
-        return truncate(&joined, width);
+    if short.len() < 2 {
+        return truncate(name, width);
     }
-    // Cut the first segment (the body) so the block and component stay.
-    let tail = short[1..].join(".");
-    let room = width.saturating_sub(tail.chars().count() + 1);
+    let (body, quantity) = (short[0], short[1..].join("."));
+    let joined = format!("{body} {quantity}");
+    if joined.chars().count() <= width {
+        return joined;
+    }
+    // Cut the body so the quantity and component stay.
+    let room = width.saturating_sub(quantity.chars().count() + 1);
     if room >= 2 {
-        format!("{}.{tail}", truncate(short[0], room))
+        format!("{} {quantity}", truncate(body, room))
     } else {
         truncate(&joined, width)
     }
@@ -80,9 +84,15 @@ fn titled(title: String, theme: Theme) -> Block<'static> {
 
 /// Column widths `(name, value, delta, scale)` for a panel `width` wide.
 fn control_columns(width: usize) -> (usize, usize, usize, usize) {
-    let (value, delta, scale) = if width >= 38 { (8, 8, 4) } else { (6, 6, 3) };
+    // The scale column only where the names still get 12 columns.
+    let (value, delta, scale) = match width {
+        38.. => (8, 8, 4),
+        34..38 => (6, 6, 3),
+        _ => (6, 6, 0),
+    };
     // marker, then a space after the marker, name, value and delta.
-    let name = width.saturating_sub(5 + value + delta + scale).max(1);
+    let spaces = if scale > 0 { 5 } else { 4 };
+    let name = width.saturating_sub(spaces + value + delta + scale).max(1);
     (name, value, delta, scale)
 }
 
@@ -98,13 +108,15 @@ impl Widget for &ControlsPanel<'_> {
             return;
         }
         let (nw, vw, dw, sw) = control_columns(inner.width as usize);
-        let header = format!(
-            "  {} {} {} {}",
+        let mut header = format!(
+            "  {} {} {}",
             pad_left_aligned("name", nw),
             pad_right_aligned("value", vw),
             pad_right_aligned("Δ", dw),
-            pad_right_aligned("M", sw)
         );
+        if sw > 0 {
+            header.push_str(&format!(" {}", pad_right_aligned("M", sw)));
+        }
         let mut lines = vec![Line::styled(header, theme.dim())];
         // Free rows first, and among them the selected body's and the
         // events' (Tab brings another body's controls into view).
@@ -147,10 +159,17 @@ impl Widget for &ControlsPanel<'_> {
                 ),
                 Span::styled(format!("{} ", pad_right_aligned(&num(value, vw), vw)), base),
                 Span::styled(
-                    format!("{} ", pad_right_aligned(&delta, dw)),
+                    pad_right_aligned(&delta, dw),
                     if change != 0.0 { theme.changed() } else { base },
                 ),
-                Span::styled(pad_right_aligned(&num(c.scale, sw), sw), theme.dim()),
+                Span::styled(
+                    if sw > 0 {
+                        format!(" {}", pad_right_aligned(&num(c.scale, sw), sw))
+                    } else {
+                        String::new()
+                    },
+                    theme.dim(),
+                ),
             ]));
         }
         if shown < rows.len() {
@@ -305,19 +324,23 @@ mod tests {
         view.controls = vec![row("ball.r.x", 2e-18, -3e-17), row("ball.r.y", 2e-6, 1e-7)];
         let text = controls_text(&view, 4);
         let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines[2], "● ball.r.x      0          1", "\n{text}");
-        assert_eq!(lines[3], "● ball.r.y   2e-6  +1e-7   1", "\n{text}");
+        assert_eq!(lines[2], "● ball.r.x          0", "\n{text}");
+        assert_eq!(lines[3], "● ball.r.y       2e-6  +1e-7", "\n{text}");
     }
 
     #[test]
     fn names_shorten_block_first_then_body() {
         assert_eq!(short_control_name("ball.velocity.x", 15), "ball.velocity.x");
-        assert_eq!(short_control_name("ball.velocity.x", 9), "ball.v.x");
+        assert_eq!(short_control_name("ball.velocity.x", 10), "ball vel.x");
         assert_eq!(
-            short_control_name("longbodyname.angular_velocity.z", 9),
-            "long….w.z"
+            short_control_name("plank.angular_velocity.y", 10),
+            "plank ω.y"
         );
-        assert_eq!(short_control_name("hit3.restitution", 9), "hit3.e");
+        assert_eq!(
+            short_control_name("longbodyname.angular_velocity.z", 10),
+            "longb… ω.z"
+        );
+        assert_eq!(short_control_name("hit3.restitution", 9), "hit3 e");
         assert_eq!(short_control_name("x", 0), "");
         assert_eq!(short_at("hit#12 post", 8), "#12 post");
         assert_eq!(short_at("t=1.250", 8), "t=1.250");
@@ -330,9 +353,9 @@ mod tests {
         let text = controls_text(&view, 5);
         let expected = [
             " controls 4/6 free ─────────",
-            "  name      value      Δ   M",
-            "● ball.p.x   -0.5          1",
-            "● ball.p.z      1  +0.01   1",
+            "  name          value      Δ",
+            "● ball pos.x     -0.5",
+            "● ball pos.z        1  +0.01",
             "  +4 more (2 free)",
         ];
         assert_eq!(text, expected.join("\n"), "\n{text}");
@@ -347,6 +370,7 @@ mod tests {
                 body: "ball".into(),
                 at: format!("t={i}.000"),
                 residual: 1e-9,
+                gap: None,
             })
             .collect();
         let mut buf = Buffer::empty(Rect::new(0, 0, 28, 4));

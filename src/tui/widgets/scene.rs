@@ -21,6 +21,8 @@ pub struct SceneCanvas<'a> {
     pub camera: &'a Camera,
     pub theme: Theme,
     pub playing: bool,
+    /// Whether to draw the motion before the last edit.
+    pub show_ghost: bool,
 }
 
 type Segment = (f64, f64, f64, f64);
@@ -117,6 +119,24 @@ impl Widget for SceneCanvas<'_> {
             .get(self.view.selected)
             .cloned()
             .unwrap_or_default();
+        // The motion before the last edit: every other sample as a dot, so
+        // it reads as dotted beside the solid traces, with or without colour.
+        let ghost: Vec<(f64, f64)> = if self.show_ghost {
+            self.view
+                .ghost
+                .iter()
+                .flat_map(|p| p.points.iter().step_by(2))
+                .filter_map(|p| self.camera.project(p))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let targets: Vec<(f64, f64)> = self
+            .view
+            .targets
+            .iter()
+            .filter_map(|t| self.camera.project(&t.point))
+            .collect();
         let events: Vec<((f64, f64), bool)> = self
             .view
             .events
@@ -131,6 +151,13 @@ impl Widget for SceneCanvas<'_> {
             .paint(|ctx| {
                 draw_all(ctx, &obstacles, theme.obstacle());
                 ctx.layer();
+                if !ghost.is_empty() {
+                    ctx.draw(&Points {
+                        coords: &ghost,
+                        color: theme.ghost(),
+                    });
+                    ctx.layer();
+                }
                 for path in &paths {
                     draw_all(ctx, &path.segments, path.color);
                     if !path.dots.is_empty() {
@@ -160,8 +187,41 @@ impl Widget for SceneCanvas<'_> {
                         Span::styled(if grazing { "!" } else { "*" }, theme.event()),
                     );
                 }
+                for &(x, y) in &targets {
+                    ctx.print(x, y, Span::styled("⊕", theme.target()));
+                }
             })
             .render(area, buf);
+        // The selected outline's cells, restyled after drawing.
+        let cell = |x: f64, y: f64| -> Option<(u16, u16)> {
+            let fx = (x - x_bounds[0]) / (x_bounds[1] - x_bounds[0]);
+            let fy = (y_bounds[1] - y) / (y_bounds[1] - y_bounds[0]);
+            if !((0.0..1.0).contains(&fx) && (0.0..1.0).contains(&fy)) {
+                return None;
+            }
+            Some((
+                inner.x + (fx * f64::from(inner.width)) as u16,
+                inner.y + (fy * f64::from(inner.height)) as u16,
+            ))
+        };
+        let (cw, ch) = (
+            (x_bounds[1] - x_bounds[0]) / f64::from(inner.width.max(1)),
+            (y_bounds[1] - y_bounds[0]) / f64::from(inner.height.max(1)),
+        );
+        for &(x1, y1, x2, y2) in &selected {
+            let cells = ((x2 - x1) / cw).abs().max(((y2 - y1) / ch).abs());
+            let n = if cells.is_finite() {
+                (2.0 * cells).ceil().clamp(1.0, 4096.0) as usize
+            } else {
+                1
+            };
+            for k in 0..=n {
+                let f = k as f64 / n as f64;
+                if let Some(at) = cell(x1 + f * (x2 - x1), y1 + f * (y2 - y1)) {
+                    buf[at].set_style(theme.selected_cells());
+                }
+            }
+        }
     }
 }
 
@@ -177,6 +237,7 @@ mod tests {
             paths: vec![Path {
                 body: 0,
                 points: vec![Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)],
+                times: vec![0.0, 1.0],
             }],
             ..View::default()
         }
@@ -196,6 +257,7 @@ mod tests {
             camera: &camera,
             theme: Theme::PLAIN,
             playing: false,
+            show_ghost: true,
         }
         .render(buf.area, &mut buf);
         let text = buffer_text(&buf);
@@ -216,6 +278,7 @@ mod tests {
                 camera: &camera,
                 theme: Theme::COLOR,
                 playing: true,
+                show_ghost: true,
             }
             .render(buf.area, &mut buf);
         }
@@ -230,7 +293,7 @@ mod tests {
             point: Vec3::new(0.0, 0.0, -0.5),
             a: "ball".into(),
             b: "ground".into(),
-            grazing: false,
+            ..Default::default()
         });
         view.selected_outline = vec![(Vec3::new(-2.0, 0.0, 0.8), Vec3::new(2.0, 0.0, 0.8))];
         let camera = Camera {
@@ -243,6 +306,7 @@ mod tests {
             camera: &camera,
             theme: Theme::COLOR,
             playing: false,
+            show_ghost: true,
         }
         .render(buf.area, &mut buf);
         let text = buffer_text(&buf);

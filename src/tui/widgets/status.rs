@@ -165,7 +165,7 @@ impl Widget for &BottomLine<'_> {
                     width,
                 )
             }
-            Input::Help { .. } => self.hints(Context::Help, "", width),
+            Input::Popup { .. } => self.hints(Context::Help, "", width),
             Input::Normal => {
                 let core_message = v
                     .status
@@ -184,10 +184,18 @@ impl Widget for &BottomLine<'_> {
                             Level::Warning => theme.changed(),
                             Level::Error => theme.error(),
                         };
-                        Line::styled(
-                            format!(" {}", truncate(text, width.saturating_sub(1))),
-                            style,
-                        )
+                        let room = width.saturating_sub(1);
+                        if text.chars().count() <= room {
+                            Line::styled(format!(" {text}"), style)
+                        } else {
+                            // The whole message is in the log.
+                            let more = " M: more";
+                            let cut = truncate(text, room.saturating_sub(more.len()));
+                            Line::from(vec![
+                                Span::styled(format!(" {cut}"), style),
+                                Span::styled(more, theme.key()),
+                            ])
+                        }
                     }
                     None => self.hints(Context::Normal, "", width),
                 }

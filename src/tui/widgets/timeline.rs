@@ -25,6 +25,42 @@ fn column(t: f64, duration: f64, width: usize) -> Option<usize> {
     Some(x.round() as usize)
 }
 
+/// Smallest run of events on neighbouring columns drawn as one mark.
+const GROUP: usize = 3;
+
+/// The event marks of a bar `width` cells wide: a tick per event (`╪` when
+/// grazing), and a run of at least [`GROUP`] events on neighbouring columns
+/// (a body rocking or settling) as one tick with its count, `┼×37`.
+pub fn marks(v: &View, width: usize) -> Vec<(usize, String)> {
+    let mut cols: Vec<(usize, bool)> = v
+        .events
+        .iter()
+        .filter_map(|e| column(e.t, v.duration, width).map(|x| (x, e.grazing)))
+        .collect();
+    cols.sort();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < cols.len() {
+        let mut j = i + 1;
+        while j < cols.len() && cols[j].0 <= cols[j - 1].0 + 1 {
+            j += 1;
+        }
+        let grazing = cols[i..j].iter().any(|c| c.1);
+        let tick = if grazing { '╪' } else { '┼' };
+        if j - i >= GROUP {
+            out.push((cols[i].0, format!("{tick}×{}", j - i)));
+        } else {
+            out.extend(
+                cols[i..j]
+                    .iter()
+                    .map(|&(x, g)| (x, if g { '╪' } else { '┼' }.to_string())),
+            );
+        }
+        i = j;
+    }
+    out
+}
+
 impl Widget for &Timeline<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
         if area.is_empty() {
@@ -36,9 +72,11 @@ impl Widget for &Timeline<'_> {
         let width =
             (area.width as usize).saturating_sub(left.chars().count() + right.chars().count());
         let mut bar: Vec<char> = vec!['─'; width];
-        for e in &v.events {
-            if let Some(x) = column(e.t, v.duration, width) {
-                bar[x] = if e.grazing { '╪' } else { '┼' };
+        for (x, text) in marks(v, width) {
+            for (k, c) in text.chars().enumerate() {
+                if let Some(cell) = bar.get_mut(x + k) {
+                    *cell = c;
+                }
             }
         }
         let now = column(v.time, v.duration, width);
@@ -79,8 +117,24 @@ mod tests {
             point: Vec3::zeros(),
             a: "a".into(),
             b: "b".into(),
-            grazing: false,
+            ..EventMark::default()
         }
+    }
+
+    #[test]
+    fn a_run_of_micro_contacts_is_one_mark_with_its_count() {
+        let mut view = View {
+            time: 0.0,
+            duration: 2.0,
+            ..View::default()
+        };
+        view.events.push(ev(0.2));
+        view.events
+            .extend((0..37).map(|k| ev(1.5 + 1e-3 * f64::from(k))));
+        let m = marks(&view, 40);
+        assert_eq!(m.len(), 2, "{m:?}");
+        assert_eq!(m[0].1, "┼");
+        assert_eq!(m[1].1, "┼×37");
     }
 
     #[test]
