@@ -821,3 +821,64 @@ target = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
         .expect("the saved scene loads");
     assert_eq!(again.constraints, scene.constraints);
 }
+
+/// A nail that holds the state at t=0.5 blocks a drag of the position at
+/// t=0.75 (free flight in between: the state at 0.5 decides the one at
+/// 0.75). The editor names the nail and the release that lets the drag
+/// through; applying it, the same drag moves the ball.
+#[test]
+fn a_blocked_drag_names_the_nail_and_its_release_lets_the_drag_through() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bounce.toml");
+    let mut e = Editor::open(&path).unwrap();
+    e.apply(Edit::SelectTime(0.5)).unwrap();
+    e.apply(Edit::Nail {
+        quantities: vec![],
+        exact: vec![],
+    })
+    .unwrap();
+    e.apply(Edit::SelectTime(0.75)).unwrap();
+    let x0 = e.view().pose.expect("pose").position;
+    let drag = Edit::Nudge {
+        quantity: StateQuantity::Position,
+        delta: Vec3::new(0.0, 0.0, 0.02),
+    };
+    let out = e.apply(drag.clone()).unwrap();
+    let blockers = out
+        .notes
+        .iter()
+        .find_map(|n| match n {
+            Note::BlockedBy(b) => Some(b.clone()),
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("no blocker named: {:?}", out.notes));
+    assert_eq!(blockers.len(), 1, "{blockers:?}");
+    let b = &blockers[0];
+    assert_eq!((b.row, b.kind, b.body.as_str()), (0, "nail", "ball"));
+    assert!(!b.quantities.is_empty(), "{b:?}");
+    let text = Note::BlockedBy(blockers.clone()).to_string();
+    assert!(text.contains("nail of ball at t=0.500"), "{text}");
+    assert!(
+        text.contains(&format!(":release 0 {}", b.quantities[0].name())),
+        "{text}"
+    );
+    let stuck = e.view().pose.expect("pose").position;
+    assert!(
+        (stuck - x0).norm() < 1e-3,
+        "the blocked drag moved {}",
+        (stuck - x0).norm()
+    );
+    // The suggested change, then the same drag.
+    e.apply(Edit::Release {
+        row: 0,
+        quantities: vec![b.quantities[0]],
+    })
+    .unwrap();
+    e.apply(drag).unwrap();
+    let moved = e.view().pose.expect("pose").position;
+    assert!(
+        (moved.z - x0.z - 0.02).abs() < 1e-3,
+        "after the release the drag moved the ball by {}",
+        moved.z - x0.z
+    );
+    assert!(e.view().constraints[0].residual < 1e-9);
+}

@@ -223,3 +223,43 @@ fn sigterm_is_honoured_after_the_terminal_went_away() {
         "the editor ignored SIGTERM with its terminal gone"
     );
 }
+
+/// With mouse capture on (the default), the terminal reports clicks and
+/// drags to the editor: a click on the ball's trace and a drag nudge it (an
+/// unsaved edit, so quitting asks). On quitting, capture is switched off
+/// with the rest of the terminal state.
+#[test]
+fn mouse_clicks_and_drags_reach_the_editor_and_capture_ends_on_quit() {
+    let mut child = in_pty(r#""$NUDGE" "$SCENE""#);
+    let mut stdin = child.stdin.take().expect("stdin");
+    let pause = |ms| std::thread::sleep(Duration::from_millis(ms));
+    pause(1500);
+    // SGR mouse reports (1-based cells): press on the ball's rising trace
+    // in the default 80x24 front view, drag up and right, release.
+    stdin.write_all(b"\x1b[<0;27;11M").unwrap();
+    pause(300);
+    stdin.write_all(b"\x1b[<32;31;9M").unwrap();
+    pause(300);
+    stdin.write_all(b"\x1b[<0;31;9m").unwrap();
+    pause(1500);
+    stdin.write_all(b"q").unwrap();
+    pause(500);
+    stdin.write_all(b"y").unwrap();
+    pause(500);
+    drop(stdin);
+    let out = child.wait_with_output().expect("wait");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "exit status {:?}", out.status);
+    let on = text
+        .find("\u{1b}[?1000h")
+        .expect("mouse capture switched on");
+    let asked = text
+        .find("quit anyway?")
+        .expect("the drag made an edit, so quitting asked");
+    assert!(asked > on);
+    let off = text
+        .rfind("\u{1b}[?1000l")
+        .expect("mouse capture switched off");
+    assert!(off > asked, "capture ended after the session");
+    assert!(text.rfind("\u{1b}[?1049l").is_some_and(|l| l > asked));
+}

@@ -23,8 +23,8 @@ impl App {
             MouseKind::Press if inside => {
                 self.message = None;
                 self.flush(core);
-                self.drag = Some((m.col, m.row));
-                self.pick(core, m.col, m.row);
+                // A drag needs a body in hand: only a click on a trace starts one.
+                self.drag = self.pick(core, m.col, m.row).then_some((m.col, m.row));
             }
             MouseKind::Drag => {
                 let Some((c0, r0)) = self.drag else {
@@ -79,8 +79,9 @@ impl App {
     }
 
     /// Select the body whose trace passes nearest the cell, at the time it
-    /// passes there. Says what was picked, or that nothing is near.
-    fn pick(&mut self, core: &mut impl Core, col: u16, row: u16) {
+    /// passes there. Says what was picked, or that nothing is near; `true`
+    /// if a body was picked.
+    fn pick(&mut self, core: &mut impl Core, col: u16, row: u16) -> bool {
         let view = core.view();
         let (x, y) = self.cell_to_screen(col, row);
         let (cw, ch) = self.cell_size();
@@ -100,9 +101,12 @@ impl App {
         match best {
             Some((d, body, t)) if d <= PICK_CELLS => {
                 if body != view.selected && self.apply(core, Edit::SelectBody(body)).is_none() {
-                    return;
+                    return false;
                 }
-                if self.apply(core, Edit::SelectTime(t)).is_some() {
+                if self.apply(core, Edit::SelectTime(t)).is_none() {
+                    return false;
+                }
+                {
                     let name = view.bodies.get(body).cloned().unwrap_or_default();
                     self.say(
                         Level::Info,
@@ -113,11 +117,15 @@ impl App {
                         ),
                     );
                 }
+                true
             }
-            _ => self.say(
-                Level::Info,
-                "no trace here: click on a body's trace to select it at that moment",
-            ),
+            _ => {
+                self.say(
+                    Level::Info,
+                    "no trace here: click on a body's trace to select it at that moment",
+                );
+                false
+            }
         }
     }
 

@@ -228,3 +228,124 @@ fn zoom_and_pan_stop_following_the_scene_until_reset() {
     let (app, _) = session("4<lt>^");
     assert!(matches!(app.camera.kind, ViewKind::Orbit { .. }));
 }
+
+/// The cell where world point `p` is drawn, and the world size of a cell.
+fn cell_of(app: &App, p: &Vec3) -> ((u16, u16), (f64, f64)) {
+    let canvas = layout::canvas_inner(app.area);
+    let (xb, yb) = app.camera.bounds(canvas.width, canvas.height);
+    let (u, v) = app.camera.project(p).expect("finite");
+    let cw = (xb[1] - xb[0]) / f64::from(canvas.width);
+    let ch = (yb[1] - yb[0]) / f64::from(canvas.height);
+    let col = canvas.x + ((u - xb[0]) / cw) as u16;
+    let row = canvas.y + ((yb[1] - v) / ch) as u16;
+    ((col, row), (cw, ch))
+}
+
+fn mouse(kind: MouseKind, (col, row): (u16, u16)) -> Mouse {
+    Mouse { kind, col, row }
+}
+
+#[test]
+fn a_click_on_a_trace_selects_that_body_at_that_time() {
+    let mut core = fixtures::core();
+    let mut app = fixtures::app(&core.view(), 80, 24);
+    let path = core.view().paths[1].clone();
+    let k = path.points.len() / 2;
+    let (cell, _) = cell_of(&app, &path.points[k]);
+    app.handle_mouse(&mut core, mouse(MouseKind::Press, cell));
+    assert_eq!(core.view.selected, 1, "{:?}", core.log);
+    let t = core.view.time;
+    // The nearest sample to the cell's centre: within a cell of the point.
+    let near = path
+        .times
+        .iter()
+        .zip(&path.points)
+        .filter(|(_, p)| cell_of(&app, p).0 == cell)
+        .any(|(tp, _)| *tp == t);
+    assert!(near, "picked t={t}, expected a time drawn in {cell:?}");
+    // A click far from every trace says so and selects nothing.
+    let mut core = fixtures::core();
+    app.handle_mouse(&mut core, mouse(MouseKind::Press, (1, 1)));
+    assert!(core.log.is_empty());
+    assert!(
+        app.message
+            .as_ref()
+            .is_some_and(|m| m.text.contains("no trace here"))
+    );
+}
+
+#[test]
+fn a_drag_nudges_like_the_keys_and_follows_the_pointer() {
+    let mut core = fixtures::core();
+    let mut app = fixtures::app(&core.view(), 80, 24);
+    let p = core.view().paths[0].points[3];
+    let (cell, (cw, ch)) = cell_of(&app, &p);
+    app.handle_mouse(&mut core, mouse(MouseKind::Press, cell));
+    app.handle_mouse(&mut core, mouse(MouseKind::Drag, (cell.0 + 2, cell.1)));
+    app.handle_mouse(&mut core, mouse(MouseKind::Drag, (cell.0 + 4, cell.1 - 1)));
+    app.handle_mouse(
+        &mut core,
+        mouse(MouseKind::Release, (cell.0 + 4, cell.1 - 1)),
+    );
+    let nudges: Vec<Vec3> = core
+        .log
+        .iter()
+        .filter_map(|e| match e {
+            Edit::Nudge { delta, .. } => Some(*delta),
+            _ => None,
+        })
+        .collect();
+    // One accumulated edit, four cells right and one up.
+    assert_eq!(nudges.len(), 1, "{:?}", core.log);
+    let want = Vec3::new(4.0 * cw, 0.0, ch);
+    assert!((nudges[0] - want).norm() < 1e-12, "{} vs {want}", nudges[0]);
+    // The same move from the keys: `:set nudge` to one cell, then 5l.
+    let (_, keys) = session(&format!(":set nudge {cw}<CR> 5l"));
+    match keys.log.as_slice() {
+        [Edit::Nudge { delta, .. }] => {
+            assert!(
+                (delta - Vec3::new(5.0 * cw, 0.0, 0.0)).norm() < 1e-12,
+                "{delta}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn the_wheel_zooms_and_mouse_off_ignores_the_mouse() {
+    let mut core = fixtures::core();
+    let mut app = fixtures::app(&core.view(), 80, 24);
+    let h = app.camera.half_height;
+    app.handle_mouse(&mut core, mouse(MouseKind::ScrollUp, (10, 10)));
+    assert!(app.camera.half_height < h);
+    app.run_command(&mut core, "set mouse off");
+    assert!(!app.mouse);
+    let before = app.clone();
+    app.handle_mouse(&mut core, mouse(MouseKind::Press, (10, 10)));
+    app.handle_mouse(&mut core, mouse(MouseKind::Drag, (14, 10)));
+    assert_eq!(app, before);
+    assert!(core.log.is_empty());
+}
+
+#[test]
+fn messages_are_kept_and_shown_in_full() {
+    let (mut app, mut core) = session("<F12> :fly<CR> ]");
+    let log: Vec<&str> = app.log().iter().map(|m| m.text.as_str()).collect();
+    assert!(
+        log.iter().any(|m| m.contains("<F12> does nothing")),
+        "{log:?}"
+    );
+    assert!(
+        log.iter().any(|m| m.contains(":fly: unknown command")),
+        "{log:?}"
+    );
+    app.run_command(&mut core, "messages");
+    assert_eq!(
+        app.input,
+        Input::Popup {
+            kind: PopupKind::Messages,
+            scroll: 0
+        }
+    );
+}
