@@ -20,10 +20,15 @@ impl Editor {
         let up = s.q * Vec3::z();
         let tilt = up.z.clamp(-1.0, 1.0).acos();
         let events = self.traj.body_events(self.selected);
+        // The other party: `b`, or `a` when the selected body was hit.
         let neighbour = |e: &&crate::sim::Event| view::Neighbour {
             index: e.index,
             t: e.t,
-            other: report::party_name(&self.scene, e.b),
+            other: if e.a == self.selected {
+                report::party_name(&self.scene, e.b)
+            } else {
+                report::party_name(&self.scene, Party::Body(e.a))
+            },
         };
         Some(view::Pose {
             position: s.x,

@@ -60,12 +60,18 @@ impl Readout<'_> {
             Some(n) => format!("{mark}{} {}", num(n.t, 5), truncate(&n.other, 9)),
             None => format!("{mark}none"),
         };
-        let rot = format!(
-            "{}° about {}  tilt {}°",
+        let room = width.saturating_sub(4);
+        let (angle, axis, tilt) = (
             num(p.angle_deg, 5),
             axis_name(&p.axis, w),
-            num(p.tilt_deg, 4)
+            num(p.tilt_deg, 4),
         );
+        let long = format!("{angle}° about {axis}, tilt {tilt}°");
+        let rot = if long.chars().count() <= room {
+            long
+        } else {
+            format!("{angle}°@{axis} tilt {tilt}°")
+        };
         let mut lines = vec![
             vec3("pos", &p.position, "m"),
             vec3("vel", &p.velocity, "m/s"),
@@ -74,24 +80,22 @@ impl Readout<'_> {
                 Span::styled("rot ", theme.dim()),
                 Span::raw(truncate(&rot, width.saturating_sub(4))),
             ]),
-            Line::from(vec![
-                Span::styled("hit ", theme.dim()),
-                Span::raw(truncate(
-                    &format!(
-                        "{} {}",
-                        neighbour("◂", &p.previous),
-                        neighbour("▸", &p.next)
-                    ),
-                    width.saturating_sub(4),
-                )),
-            ]),
+            // The collisions either side: ◂ before, ▸ after.
+            Line::raw(truncate(
+                &format!(
+                    "{} {}",
+                    neighbour("◂", &p.previous),
+                    neighbour("▸", &p.next)
+                ),
+                width,
+            )),
         ];
         let row = self.view.constraints.get(self.selected);
         if let Some((row, gap)) = row.and_then(|r| r.gap.map(|g| (r, g))) {
             lines.push(Line::from(vec![
                 Span::styled("gap ", theme.dim()),
                 Span::raw(truncate(
-                    &format!("{} m to the {} target", num(gap, 7), row.kind),
+                    &format!("{} m to {}", num(gap, 7), row.kind),
                     width.saturating_sub(4),
                 )),
             ]));
