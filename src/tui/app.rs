@@ -354,6 +354,7 @@ impl App {
                         Sense::Back => ladder_down(self.steps[i]),
                     };
                 }
+                self.say(Level::Info, step_words(self.mode, self.steps[i]));
             }
             Action::Nail => self.nail(core, StateQuantity::ALL.to_vec(), Vec::new()),
             Action::Float => self.float(core, None, StateQuantity::ALL.to_vec(), Vec::new()),
@@ -599,6 +600,24 @@ pub fn block_is_free(view: &View, body: usize, block: Block) -> bool {
     view.controls
         .iter()
         .any(|c| c.free && (c.name == prefix || c.name.starts_with(&format!("{prefix}."))))
+}
+
+/// What one nudge key does now, in the quantity's units.
+fn step_words(mode: StateQuantity, step: f64) -> String {
+    let n = |v: f64| super::format::num(v, 8);
+    let what = match mode {
+        StateQuantity::Position => format!("moves the body {} m", n(step)),
+        StateQuantity::Orientation => {
+            format!("turns the body {}° ({} rad)", n(step.to_degrees()), n(step))
+        }
+        StateQuantity::Velocity => format!("changes its velocity by {} m/s", n(step)),
+        StateQuantity::AngularVelocity => format!(
+            "changes its angular velocity by {} rad/s ({}°/s)",
+            n(step),
+            n(step.to_degrees())
+        ),
+    };
+    format!("nudge step: one key {what} (H J K L: 10×)")
 }
 
 fn quantity_index(q: StateQuantity) -> usize {

@@ -251,6 +251,47 @@ mod tests {
         );
     }
 
+    /// Under NO_COLOR the selected outline still stands out (its cells are
+    /// bold and reversed) and the ghost of the last edit is drawn.
+    #[test]
+    fn without_colour_the_outline_is_reversed_and_the_ghost_drawn() {
+        use ratatui::style::Modifier;
+        let mut view = fixtures::view();
+        let app = fixtures::app(&view, 80, 24);
+        let reversed = |buf: &Buffer| {
+            buf.content()
+                .iter()
+                .filter(|c| c.modifier.contains(Modifier::REVERSED | Modifier::BOLD))
+                .count()
+        };
+        let plain = render(&view, &app, 80, 24);
+        // The mode badge and the selected rows are reversed too; the
+        // outline adds its cells.
+        let mut no_outline = view.clone();
+        no_outline.selected_outline.clear();
+        let base = reversed(&render(&no_outline, &app, 80, 24));
+        assert!(reversed(&plain) > base, "{} vs {base}", reversed(&plain));
+        // A ghost far from the traces shows as dots where there were none.
+        let braille = |buf: &Buffer| {
+            buf.content()
+                .iter()
+                .filter(|c| {
+                    c.symbol()
+                        .chars()
+                        .any(|ch| ('\u{2801}'..='\u{28ff}').contains(&ch))
+                })
+                .count()
+        };
+        let before = braille(&plain);
+        view.ghost = view.paths.clone();
+        for p in &mut view.ghost {
+            for q in &mut p.points {
+                q.z += 0.4;
+            }
+        }
+        assert!(braille(&render(&view, &app, 80, 24)) > before);
+    }
+
     #[test]
     fn plain_theme_uses_no_colour_anywhere() {
         let view = fixtures::view();
