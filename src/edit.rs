@@ -86,7 +86,9 @@ pub enum Edit {
     Float {
         quantities: Vec<StateQuantity>,
         exact: Vec<(StateQuantity, Vec3)>,
-        side: Side,
+        /// Before or after the impulse; `None`: before if the collision is
+        /// still ahead of the current time, else after.
+        side: Option<Side>,
     },
     /// An expression constraint on the selected body at the current time.
     Expression(Expression),

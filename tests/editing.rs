@@ -91,7 +91,7 @@ fn each_constraint_kind_converges() {
     e.apply(Edit::Float {
         quantities: vec![StateQuantity::Position],
         exact: vec![],
-        side: Side::Post,
+        side: Some(Side::Post),
     })
     .unwrap();
     // Ask for the bounce to land 20 cm further along x: the same floating
@@ -443,7 +443,7 @@ fn nails_and_floating_constraints_hold_typed_values() {
     e.apply(Edit::Float {
         quantities: vec![StateQuantity::Velocity],
         exact: vec![(StateQuantity::Velocity, post)],
-        side: Side::Post,
+        side: Some(Side::Post),
     })
     .unwrap();
     settle(&mut e);

@@ -236,7 +236,7 @@ mod random_edits {
             3 => (0.0f64..1.0).prop_map(Edit::SelectTime),
             6 => (quantity(), small.clone(), small.clone(), small).prop_map(|(quantity, x, y, z)| Edit::Nudge { quantity, delta: Vec3::new(x, y, z) }),
             2 => proptest::collection::vec(quantity(), 0..3).prop_map(|quantities| Edit::Nail { quantities, exact: vec![] }),
-            1 => proptest::collection::vec(quantity(), 1..3).prop_map(|quantities| Edit::Float { quantities, exact: vec![], side: Side::Post }),
+            1 => proptest::collection::vec(quantity(), 1..3).prop_map(|quantities| Edit::Float { quantities, exact: vec![], side: Some(Side::Post) }),
             1 => (0usize..3).prop_map(Edit::RemoveConstraint),
             1 => (block(), any::<bool>()).prop_map(|(block, free)| Edit::SetBlock { body: 0, block, free }),
             1 => (any::<bool>(), any::<bool>()).prop_map(|(normal, restitution)| Edit::AddEventControls { normal, restitution }),

@@ -93,6 +93,11 @@ impl Editor {
                     ))
                 })?;
                 let e = &self.traj.events[global];
+                let side = side.unwrap_or(if e.t > self.time {
+                    Side::Pre
+                } else {
+                    Side::Post
+                });
                 let s = self.traj.state(self.selected, e.t, side);
                 let target = targets(&s, &quantities, &exact)?;
                 self.constraints.push(Constraint {

@@ -16,7 +16,7 @@ impl Editor {
         match edit {
             Edit::Nudge { quantity, .. } => format!("nudge of {body}'s {}", quantity.name()),
             Edit::Nail { .. } => format!("nail of {body} at {}", t(self.time)),
-            Edit::Float { side, .. } => format!("floating constraint of {body} ({})", side.word()),
+            Edit::Float { .. } => format!("floating constraint of {body}"),
             Edit::Expression(_) => format!("expression constraint on {body}"),
             Edit::Vertical { goal, .. } => format!("{} constraint on {body}", goal.word()),
             Edit::RemoveConstraint(i) => format!("deletion of constraint row {i}"),

@@ -87,8 +87,8 @@ impl App {
     }
 
     /// A floating constraint at the selected body's collision nearest the
-    /// current time; without an explicit side, `pre` if that collision is
-    /// still ahead and `post` otherwise.
+    /// current time; without an explicit side the core picks `pre` if that
+    /// collision is still ahead and `post` otherwise, and says which.
     pub(super) fn float(
         &mut self,
         core: &mut impl Core,
@@ -98,19 +98,6 @@ impl App {
     ) {
         let view = core.view();
         let body = view.bodies.get(view.selected).cloned().unwrap_or_default();
-        // Without a side: `pre` if the nearest collision is still ahead.
-        let ahead = view
-            .pose
-            .as_ref()
-            .map(|p| {
-                let gap = |n: &Option<crate::view::Neighbour>| {
-                    n.as_ref()
-                        .map_or(f64::INFINITY, |n| (n.t - view.time).abs())
-                };
-                gap(&p.next) < gap(&p.previous)
-            })
-            .unwrap_or(false);
-        let side = side.unwrap_or(if ahead { Side::Pre } else { Side::Post });
         let names = quantity_names(&quantities);
         let typed = !exact.is_empty();
         let edit = Edit::Float {
@@ -119,13 +106,17 @@ impl App {
             side,
         };
         if let Some(outcome) = self.apply(core, edit) {
-            let at = match outcome.anchored {
+            let (at, side) = match outcome.anchored {
                 Some(crate::edit::Anchored::Collision {
-                    collision, event, ..
-                }) => format!(" at its collision #{collision} (event {event})"),
-                _ => String::new(),
+                    collision,
+                    event,
+                    side,
+                }) => (
+                    format!(" at its collision #{collision} (event {event})"),
+                    side.word(),
+                ),
+                _ => (String::new(), "—"),
             };
-            let side = side.word();
             let hint = settle_hint(typed, &core.view());
             self.say_info(format!("floating {names} of {body}{at} ({side}){hint}"));
         }

@@ -120,14 +120,14 @@ fn block_prefix_toggles_from_what_the_view_shows() {
 }
 
 #[test]
-fn float_picks_the_side_from_the_current_time() {
+fn float_leaves_the_side_to_the_core_unless_typed() {
     let (_, core) = session("f");
     assert_eq!(
         only_edit(&core),
         &Edit::Float {
             quantities: StateQuantity::ALL.to_vec(),
             exact: vec![],
-            side: Side::Pre
+            side: None
         }
     );
     let (_, core) = session(":float<Space>post<Space>pos<CR>");
@@ -136,7 +136,7 @@ fn float_picks_the_side_from_the_current_time() {
         &Edit::Float {
             quantities: vec![StateQuantity::Position],
             exact: vec![],
-            side: Side::Post
+            side: Some(Side::Post)
         }
     );
 }
