@@ -12,7 +12,8 @@
 //!   reference, in time and error;
 //! - `scaling`: growth with bodies, horizon and free controls;
 //! - `effects`: each effect off and on, with its evaluation count;
-//! - `latency`: replay of the eggs editing session, if its script exists;
+//! - `latency`: replay of every paper editing session, with where the
+//!   update time goes;
 //! - `cliffs`: scenes whose cost is out of proportion (a fine ellipsoid
 //!   rocking to rest), with their event counts.
 //!
@@ -32,6 +33,8 @@ mod plot;
 mod precision;
 mod scaling;
 mod table;
+
+pub use latency::profile_table;
 
 use cases::Entry;
 use jacobian::Study;
@@ -171,7 +174,7 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write) -> std::io::Result<()> {
                 effects::print(out, &plan)?;
             }
             "latency" => {
-                heading(out, name, "replay of the eggs editing session")?;
+                heading(out, name, "replay of every paper editing session")?;
                 latency::print(out)?;
             }
             "cliffs" => {

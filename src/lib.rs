@@ -14,6 +14,7 @@ pub mod estimate;
 pub mod files;
 pub mod geometry;
 pub mod math;
+pub mod profile;
 pub mod report;
 pub mod scene;
 pub mod script;

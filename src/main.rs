@@ -54,6 +54,9 @@ enum Command {
         /// the exit status is still non-zero).
         #[arg(long)]
         keep_going: bool,
+        /// Print where the updates' time went, part by part.
+        #[arg(long)]
+        profile: bool,
     },
     /// Print what accuracy costs in time.
     Bench {
@@ -119,7 +122,10 @@ fn real_main() -> Result<()> {
             size,
             trace_svg,
             keep_going,
-        }) => run(&scene, &keys, report, screen, &size, trace_svg, keep_going),
+            profile,
+        }) => run(
+            &scene, &keys, report, screen, &size, trace_svg, keep_going, profile,
+        ),
         Some(Command::Bench { quick, csv, only }) => {
             let args = nudge::bench::BenchArgs { quick, csv, only };
             nudge::bench::run(&args, &mut std::io::stdout().lock())?;
@@ -216,6 +222,7 @@ fn run(
     size: &str,
     svg: Option<PathBuf>,
     keep_going: bool,
+    profile: bool,
 ) -> Result<()> {
     let size = parse_size(size)?;
     let text = nudge::files::read_regular_text(keys, nudge::files::MAX_TEXT_BYTES)
@@ -245,6 +252,9 @@ fn run(
     if let Some(p) = svg {
         std::fs::write(&p, nudge::svg::before_after(&before, &editor.view()))
             .with_context(|| format!("writing {}", p.display()))?;
+    }
+    if profile {
+        print!("{}", nudge::bench::profile_table(&result));
     }
     if let Some(first) = result.failures.first() {
         for f in &result.failures {

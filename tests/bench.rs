@@ -110,25 +110,36 @@ fn effects_off_are_never_evaluated() {
     );
 }
 
-/// The latency section reports the session replay, or says plainly that
-/// the session script is missing.
+/// The latency section replays every paper session (compiled in) and
+/// shows where each session's update time goes.
 #[test]
-fn latency_replays_the_session_or_says_it_is_missing() {
+fn latency_replays_every_paper_session_with_its_parts() {
     let text = bench("latency");
     no_nan(&text);
-    if std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/sessions/eggs.keys")
-        .is_file()
-    {
-        let rows = table_rows(&text, "latency");
-        assert_eq!(rows.len(), 2, "{text}");
-        assert!(rows[0][0].starts_with("key"), "{text}");
-        assert_eq!(rows[1][0], "frame render", "{text}");
-    } else {
-        assert!(
-            text.contains("session script not found: tests/sessions/eggs.keys"),
-            "{text}"
-        );
+    let rows = table_rows(&text, "latency");
+    let names: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "eggs",
+            "plank",
+            "mug",
+            "scissors",
+            "scissors-bounce",
+            "particle-parabola",
+            "particle-polygon"
+        ],
+        "{text}"
+    );
+    for r in &rows {
+        assert_eq!(r.len(), 11, "{r:?}");
+        assert!(r[1].parse::<usize>().is_ok_and(|n| n > 0), "{r:?}");
+        // The five shares are percentages that add up to at most 100 %.
+        let shares: Vec<f64> = r[5..10]
+            .iter()
+            .map(|c| c.trim_end_matches('%').parse::<f64>().expect("a share"))
+            .collect();
+        assert!(shares.iter().sum::<f64>() <= 100.0 + 5.0, "{r:?}");
     }
     assert!(
         text.lines()

@@ -173,6 +173,7 @@ impl Editor {
     /// without tangents, at twice the accuracy: see `estimate`); the
     /// diagnostic when it exceeds the threshold.
     fn estimate_error(&mut self) -> Option<String> {
+        let _span = crate::profile::span(crate::profile::Part::Estimate);
         match crate::estimate::error_estimate(&self.scene, &self.controls, &self.traj) {
             Ok(e) => {
                 self.status.integration_error = Some(e.per_quantity);
@@ -389,6 +390,7 @@ impl Editor {
             self.traj = if tr.tangent && same && whole {
                 tr
             } else {
+                let _span = crate::profile::span(crate::profile::Part::Resimulate);
                 simulate_with_tangent(&self.scene, &self.controls)?
             };
         }

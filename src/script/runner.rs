@@ -28,6 +28,8 @@ pub struct RunResult {
     pub render_ms: Vec<f64>,
     /// Whether a key quit the editor (the remaining keys were not replayed).
     pub quit: bool,
+    /// Where the updates' and frames' time went.
+    pub profile: crate::profile::Profile,
     /// Command lines that did not parse (a misspelt command, a bad
     /// number). Without `keep_going` the replay stops at the first.
     pub failures: Vec<ScriptFailure>,
@@ -116,6 +118,8 @@ pub fn run_script_with<S: Copy + Into<Step>>(
         Ok(t) => t,
         Err(never) => match never {},
     };
+    // The tally starts with the replay (the first frame included).
+    let _ = crate::profile::take();
     let mut update_ms = Vec::new();
     let mut render_ms = Vec::new();
     if let Ok(ms) = draw(&mut terminal, core, &mut app) {
@@ -165,6 +169,7 @@ pub fn run_script_with<S: Copy + Into<Step>>(
         update_ms,
         render_ms,
         quit: app.quit,
+        profile: crate::profile::take(),
         failures,
     }
 }

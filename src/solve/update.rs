@@ -424,6 +424,7 @@ pub fn update(
                 None => 0.0,
             }),
     );
+    let linearise = crate::profile::span(crate::profile::Part::Linearise);
     let step = match assemble(traj, constraints, true) {
         Ok((r, Some(c))) => {
             if c.iter().all(|v| *v == 0.0) && r.norm() > 0.0 {
@@ -480,6 +481,7 @@ pub fn update(
         }
         Err(e) => return Err(e.into()),
     };
+    drop(linearise);
     let (du, condition, plain) =
         step.unwrap_or_else(|| (DVector::zeros(controls.m()), f64::NAN, None));
     // Successive step reduction within the current smooth component: at
@@ -498,7 +500,10 @@ pub fn update(
                 // Step-reduction trials carry tangents: the accepted one is
                 // the next update's starting point, so it is not simulated
                 // twice.
-                if let Some((res, tr)) = trial(scene, controls, &u, constraints, true, until) {
+                let tried = crate::profile::time(crate::profile::Part::Trials, || {
+                    trial(scene, controls, &u, constraints, true, until)
+                });
+                if let Some((res, tr)) = tried {
                     if prefix(&tr) == signature {
                         let enough = promised.is_none_or(|p| before - res >= 0.5 * (before - p));
                         if res < before && enough {
@@ -558,6 +563,7 @@ pub fn update(
             )
         })
         .collect();
+    let sampling = crate::profile::span(crate::profile::Part::Sampling);
     let best = candidates
         .par_iter()
         .filter_map(|dv| {
@@ -565,6 +571,7 @@ pub fn update(
                 .map(|(res, tr)| (res, dv.clone(), tr))
         })
         .min_by(|a, b| a.0.total_cmp(&b.0));
+    drop(sampling);
     match best {
         Some((res, dv, tr)) if res < before => {
             let (from, to) = (traj.events.len(), tr.events.len());

@@ -126,6 +126,7 @@ pub fn draw<B: Backend, C: Core>(
 ) -> io::Result<f64> {
     let view = core.view();
     let start = Instant::now();
+    let _span = crate::profile::span(crate::profile::Part::Render);
     terminal
         .draw(|frame| {
             let area = frame.area();

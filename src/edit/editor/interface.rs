@@ -33,6 +33,7 @@ impl Core for Editor {
     }
 
     fn view(&self) -> View {
+        let _span = crate::profile::span(crate::profile::Part::View);
         let events = self
             .traj
             .events
