@@ -210,4 +210,10 @@ pub trait Core {
     fn dirty(&self) -> bool;
     /// The JSON report (`nudge check --json` shape plus constraints).
     fn report(&self) -> serde_json::Value;
+    /// How each free control moves the selected body at the current time
+    /// (the Jacobian's position and orientation rows), or why it cannot
+    /// be said.
+    fn sensitivity(&self) -> Result<crate::view::Sensitivity, String> {
+        Err("this core computes no Jacobians".into())
+    }
 }

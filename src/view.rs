@@ -92,6 +92,26 @@ pub struct Pose {
     pub next: Option<Neighbour>,
 }
 
+/// How each free control moves the selected body at the current time: the
+/// columns of its Jacobian `∂q(t)/∂u`, position and orientation rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sensitivity {
+    pub body: String,
+    pub t: f64,
+    pub rows: Vec<SensitivityRow>,
+}
+
+/// One free control's column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensitivityRow {
+    /// The control, e.g. `egg1.velocity.x`.
+    pub control: String,
+    /// `∂x/∂u` (m per unit of the control) and `∂θ/∂u` (rad per unit, a
+    /// world-frame rotation).
+    pub position: Vec3,
+    pub orientation: Vec3,
+}
+
 /// Where a constraint holds its body's position, for drawing.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Target {

@@ -62,3 +62,22 @@ fn too_small_terminal_says_so() {
     assert!(s.contains("terminal too small"), "{s}");
     insta::assert_snapshot!(s);
 }
+
+/// The Jacobian popup (`I`) reads the tangents: in free flight a unit of
+/// initial velocity moves the body by t (here 0.075 s) and does not turn
+/// it; a unit of initial orientation turns it by 1 rad = 57.3°.
+#[test]
+fn the_jacobian_popup_shows_free_flight_sensitivities() {
+    let s = screen("scenes/eggs.toml", "]]]]] I", (100, 40));
+    let row = |name: &str| {
+        s.lines()
+            .find(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("no row {name}:\n{s}"))
+            .to_string()
+    };
+    let v = row("egg1.velocity.x");
+    assert!(v.contains(" 0.075 ") && v.contains('█'), "{v}");
+    let r = row("egg1.orientation.y");
+    assert!(r.contains(" 57.3 "), "{r}");
+    assert!(s.contains("egg1 at t=0.075"), "{s}");
+}

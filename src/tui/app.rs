@@ -112,6 +112,8 @@ pub struct App {
     log: Vec<Message>,
     /// The cell where the current mouse drag was last seen.
     drag: Option<(u16, u16)>,
+    /// The Jacobian columns shown by the open `:jacobian` popup.
+    sensitivity: Option<Result<crate::view::Sensitivity, String>>,
     /// The last command line that did not parse, until taken.
     command_error: Option<command::CommandError>,
     pending: Option<(StateQuantity, Vec3)>,
@@ -159,6 +161,7 @@ impl App {
             log: Vec::new(),
             drag: None,
             command_error: None,
+            sensitivity: None,
             pending: None,
             rk4_step: accuracy.window(),
             tolerance: 1e-9,
@@ -453,13 +456,19 @@ impl App {
                     buf.clear();
                 }
             }
-            Action::Popup(kind) => self.open(kind),
+            Action::Popup(kind) => {
+                if kind == PopupKind::Jacobian {
+                    self.sensitivity = Some(core.sensitivity());
+                }
+                self.open(kind);
+            }
             Action::Scroll(sense) => {
                 if let Input::Popup { kind, scroll } = self.input {
                     let step = u16::try_from(count).unwrap_or(u16::MAX);
                     // Clamped, so scrolling back after overshooting the end
                     // moves at once.
-                    let max = popup::max_scroll(kind, &self.log, &core.view().notes, self.area);
+                    let notes = core.view().notes;
+                    let max = popup::max_scroll(kind, self.popup_data(&notes), self.area);
                     let scroll = match sense {
                         Sense::Forward => scroll.saturating_add(step),
                         Sense::Back => scroll.saturating_sub(step),
@@ -575,6 +584,15 @@ impl App {
     /// Every message so far, oldest first.
     pub fn log(&self) -> &[Message] {
         &self.log
+    }
+
+    /// What the popups show, with the scene's `notes`.
+    pub fn popup_data<'a>(&'a self, notes: &'a str) -> popup::PopupData<'a> {
+        popup::PopupData {
+            log: &self.log,
+            notes,
+            sensitivity: self.sensitivity.as_ref(),
+        }
     }
 
     /// Open a popup at its top.

@@ -87,6 +87,8 @@ pub enum Command {
     Messages,
     /// `:notes`: the scene's notes in full.
     Notes,
+    /// `:jacobian`: how each free control moves the body now.
+    Jacobian,
     /// `:set mouse on|off`.
     SetMouse(bool),
     /// `:speed OTHER`: equal speed with another body.

@@ -149,6 +149,52 @@ pub fn pad_right_aligned(s: &str, width: usize) -> String {
     format!("{}{s}", " ".repeat(width - n))
 }
 
+/// Short names of control-name segments, used when a full name does not fit.
+const SHORT: &[(&str, &str)] = &[
+    ("position", "pos"),
+    ("orientation", "rot"),
+    ("velocity", "vel"),
+    ("angular_velocity", "ω"),
+    ("mass", "m"),
+    ("inertia", "I"),
+    ("normal", "n"),
+    ("restitution", "e"),
+];
+
+/// `name` within `width` characters: as is; else the body, a space and
+/// the short quantity (`egg1.velocity.x` → `egg1 vel.x`, `plank ω.y`);
+/// else with the body cut so the quantity stays whole.
+pub fn short_control_name(name: &str, width: usize) -> String {
+    if name.chars().count() <= width {
+        return name.to_string();
+    }
+    let parts: Vec<&str> = name.split('.').collect();
+    let short: Vec<&str> = parts
+        .iter()
+        .map(|p| {
+            SHORT
+                .iter()
+                .find(|(long, _)| long == p)
+                .map_or(*p, |(_, s)| *s)
+        })
+        .collect();
+    if short.len() < 2 {
+        return truncate(name, width);
+    }
+    let (body, quantity) = (short[0], short[1..].join("."));
+    let joined = format!("{body} {quantity}");
+    if joined.chars().count() <= width {
+        return joined;
+    }
+    // Cut the body so the quantity and component stay.
+    let room = width.saturating_sub(quantity.chars().count() + 1);
+    if room >= 2 {
+        format!("{} {quantity}", truncate(body, room))
+    } else {
+        truncate(&joined, width)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -39,7 +39,7 @@ impl Context {
             Context::Normal => "editing",
             Context::Block => "after b: control block",
             Context::Command => "command line (:)",
-            Context::Help => "popups (?, :messages, :notes)",
+            Context::Help => "popups (?, M, I, :notes)",
             Context::Prompt => "quit prompt (unsaved edits)",
         }
     }
@@ -410,6 +410,7 @@ pub static KEYMAP: &[Binding] = &[
     bind(ch(':'), Nrm, Action::CommandLine, "command line (:help lists commands)"),
     hint(ch('?'), Nrm, Action::Popup(PopupKind::Help), "this help", "help"),
     bind(ch('M'), Nrm, Action::Popup(PopupKind::Messages), "every message so far (:messages)"),
+    bind(ch('I'), Nrm, Action::Popup(PopupKind::Jacobian), "how each free control moves the body (:jacobian)"),
     hint(ch('q'), Nrm, Action::Quit, "quit (asks when there are unsaved edits)", "quit"),
     bind(code(KeyCode::Esc), Nrm, Action::Cancel, "cancel a count or a drag; never quits"),
     // After `b`.

@@ -5,9 +5,11 @@
 
 use super::app::Message;
 use super::command::{COMMAND_NOTES, usage_rows};
+use super::format::{num, short_control_name};
 use super::keymap::{Context, help_rows};
 use super::layout;
 use super::theme::Theme;
+use crate::view::Sensitivity;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 
@@ -20,6 +22,17 @@ pub enum PopupKind {
     Messages,
     /// The scene's notes.
     Notes,
+    /// How each free control moves the selected body now.
+    Jacobian,
+}
+
+/// What the popups show besides the tables: the App's message log, the
+/// scene's notes, and the Jacobian columns taken when the popup opened.
+#[derive(Debug, Clone, Copy)]
+pub struct PopupData<'a> {
+    pub log: &'a [Message],
+    pub notes: &'a str,
+    pub sensitivity: Option<&'a Result<Sensitivity, String>>,
 }
 
 impl PopupKind {
@@ -29,6 +42,7 @@ impl PopupKind {
             PopupKind::Help => " keys: j/k scroll, ? or Esc closes ",
             PopupKind::Messages => " messages: j/k scroll, Esc closes ",
             PopupKind::Notes => " scene notes: j/k scroll, Esc closes ",
+            PopupKind::Jacobian => " how the free controls move the body: j/k, Esc ",
         }
     }
 }
@@ -37,15 +51,15 @@ impl PopupKind {
 const MAX_KEYS_WIDTH: usize = 26;
 
 /// What a popup shows on a screen of `area`.
-pub fn lines(
-    kind: PopupKind,
-    log: &[Message],
-    notes: &str,
-    theme: Theme,
-    area: Rect,
-) -> Vec<Line<'static>> {
+pub fn lines(kind: PopupKind, data: PopupData, theme: Theme, area: Rect) -> Vec<Line<'static>> {
     let width = usize::from(layout::popup_inner(area).width.max(1));
+    let (log, notes) = (data.log, data.notes);
     match kind {
+        PopupKind::Jacobian => match data.sensitivity {
+            Some(Ok(s)) => sensitivity_lines(s, theme, width),
+            Some(Err(why)) => wrap(why, width).into_iter().map(Line::raw).collect(),
+            None => vec![Line::styled("nothing to show", theme.dim())],
+        },
         PopupKind::Help => help_lines(theme),
         PopupKind::Messages if log.is_empty() => vec![Line::styled("no messages yet", theme.dim())],
         PopupKind::Messages => log
@@ -68,10 +82,63 @@ pub fn lines(
     }
 }
 
+/// The Jacobian popup: a row per free control, how far a unit of it moves
+/// the body (m) and turns it (degrees), each with a bar scaled to the
+/// column's largest.
+fn sensitivity_lines(s: &Sensitivity, theme: Theme, width: usize) -> Vec<Line<'static>> {
+    let name_w = 18.min(width / 3);
+    let bar_w = width.saturating_sub(name_w + 2 * 10 + 4) / 2;
+    let max_x = s.rows.iter().map(|r| r.position.norm()).fold(0.0, f64::max);
+    let max_r = s
+        .rows
+        .iter()
+        .map(|r| r.orientation.norm())
+        .fold(0.0, f64::max);
+    let bar = |v: f64, max: f64| {
+        let n = if max > 0.0 && v.is_finite() {
+            ((v / max) * bar_w as f64).round() as usize
+        } else {
+            0
+        };
+        format!("{:<bar_w$}", "█".repeat(n.min(bar_w)))
+    };
+    let mut out = vec![
+        Line::styled(
+            format!(
+                "{} at t={}: per unit of each free control",
+                s.body,
+                num(s.t, 7)
+            ),
+            theme.title(),
+        ),
+        Line::styled(
+            format!(
+                "{:<name_w$} {:>9} {:<bar_w$} {:>9} {:<bar_w$}",
+                "control", "|∂x| m", "", "|∂θ| °", ""
+            ),
+            theme.dim(),
+        ),
+    ];
+    for r in &s.rows {
+        let (dx, dr) = (r.position.norm(), r.orientation.norm().to_degrees());
+        out.push(Line::from(vec![
+            Span::raw(format!(
+                "{:<name_w$} ",
+                short_control_name(&r.control, name_w)
+            )),
+            Span::raw(format!("{:>9} ", num(dx, 9))),
+            Span::styled(bar(dx, max_x), theme.info()),
+            Span::raw(format!(" {:>9} ", num(dr, 9))),
+            Span::styled(bar(dr, max_r.to_degrees()), theme.changed()),
+        ]));
+    }
+    out
+}
+
 /// How far a popup can scroll (its last line at the bottom).
-pub fn max_scroll(kind: PopupKind, log: &[Message], notes: &str, area: Rect) -> u16 {
+pub fn max_scroll(kind: PopupKind, data: PopupData, area: Rect) -> u16 {
     let visible = layout::popup_inner(area).height;
-    let n = lines(kind, log, notes, Theme::PLAIN, area).len();
+    let n = lines(kind, data, Theme::PLAIN, area).len();
     u16::try_from(n).unwrap_or(u16::MAX).saturating_sub(visible)
 }
 
@@ -181,10 +248,15 @@ mod tests {
             })
             .collect();
         let visible = layout::popup_inner(area).height;
+        let data = |log| PopupData {
+            log,
+            notes: "",
+            sensitivity: None,
+        };
         assert_eq!(
-            max_scroll(PopupKind::Messages, &log, "", area),
+            max_scroll(PopupKind::Messages, data(&log), area),
             40 - visible
         );
-        assert_eq!(max_scroll(PopupKind::Messages, &log[..3], "", area), 0);
+        assert_eq!(max_scroll(PopupKind::Messages, data(&log[..3]), area), 0);
     }
 }

@@ -75,12 +75,9 @@ impl Widget for &Screen<'_> {
         (&StatusLine { view, app }).render(a.status, buf);
         (&BottomLine { view, app }).render(a.bottom, buf);
         if let Input::Popup { kind, scroll } = app.input {
-            let log = app.log();
-            let notes = &view.notes;
             (&Popup {
                 kind,
-                log,
-                notes,
+                data: app.popup_data(&view.notes),
                 theme,
                 scroll,
             })

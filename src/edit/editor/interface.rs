@@ -121,6 +121,40 @@ impl Core for Editor {
         self.revision != self.saved_revision
     }
 
+    fn sensitivity(&self) -> Result<view::Sensitivity, String> {
+        let body = self
+            .scene
+            .bodies
+            .get(self.selected)
+            .ok_or("the scene has no bodies")?;
+        if self.controls.m() == 0 {
+            return Err(format!(
+                "no free controls: free a block of {} first (b then p/o/v/w)",
+                body.name
+            ));
+        }
+        let j = self
+            .traj
+            .jacobian(self.selected, self.time, Side::Post)
+            .map_err(|e| format!("no Jacobian for {} at this time: {e}", body.name))?;
+        let rows = self
+            .controls
+            .free
+            .iter()
+            .enumerate()
+            .map(|(col, &entry)| view::SensitivityRow {
+                control: self.controls.entries[entry].name.clone(),
+                position: Vec3::new(j[(0, col)], j[(1, col)], j[(2, col)]),
+                orientation: Vec3::new(j[(3, col)], j[(4, col)], j[(5, col)]),
+            })
+            .collect();
+        Ok(view::Sensitivity {
+            body: body.name.clone(),
+            t: self.time,
+            rows,
+        })
+    }
+
     fn report(&self) -> serde_json::Value {
         let rows = self.constraint_rows();
         let mut v = report::summary(

@@ -368,6 +368,7 @@ impl App {
             }
             Command::Messages => self.open(PopupKind::Messages),
             Command::Notes => self.open(PopupKind::Notes),
+            Command::Jacobian => self.handle_action(core, Action::Popup(PopupKind::Jacobian)),
             Command::SetMouse(on) => {
                 self.mouse = on;
                 self.say(

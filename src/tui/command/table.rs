@@ -167,6 +167,11 @@ pub const COMMANDS: &[CommandSpec] = &[
         parse: |w, _, _| w.no_more(1).map(|()| Command::Messages),
     },
     CommandSpec {
+        names: &["jacobian", "jac"],
+        usage: &[(":jacobian", "how each free control moves the body (I)")],
+        parse: |w, _, _| w.no_more(1).map(|()| Command::Jacobian),
+    },
+    CommandSpec {
         names: &["notes"],
         usage: &[(":notes", "the scene's notes in full")],
         parse: |w, _, _| w.no_more(1).map(|()| Command::Notes),

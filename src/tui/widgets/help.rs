@@ -1,9 +1,8 @@
 //! A popup: the key help, the message log or the scene's notes, drawn
 //! over the screen and scrolled (what it says is [`crate::tui::popup`]'s).
 
-use crate::tui::app::Message;
 use crate::tui::layout;
-use crate::tui::popup::{self, PopupKind};
+use crate::tui::popup::{self, PopupData, PopupKind};
 use crate::tui::theme::Theme;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
@@ -14,8 +13,7 @@ use ratatui::widgets::{Block, Clear, Paragraph, Widget};
 #[derive(Debug, Clone, Copy)]
 pub struct Popup<'a> {
     pub kind: PopupKind,
-    pub log: &'a [Message],
-    pub notes: &'a str,
+    pub data: PopupData<'a>,
     pub theme: Theme,
     pub scroll: u16,
 }
@@ -23,8 +21,8 @@ pub struct Popup<'a> {
 impl Widget for &Popup<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let rect = layout::popup(area);
-        let lines = popup::lines(self.kind, self.log, self.notes, self.theme, area);
-        let max = popup::max_scroll(self.kind, self.log, self.notes, area);
+        let lines = popup::lines(self.kind, self.data, self.theme, area);
+        let max = popup::max_scroll(self.kind, self.data, area);
         let block = Block::bordered()
             .border_style(self.theme.border())
             .title(Span::styled(self.kind.title(), self.theme.title()));
@@ -48,8 +46,11 @@ mod tests {
         let mut buf = Buffer::empty(Rect::new(0, 0, 120, 200));
         (&Popup {
             kind: PopupKind::Help,
-            log: &[],
-            notes: "",
+            data: PopupData {
+                log: &[],
+                notes: "",
+                sensitivity: None,
+            },
             theme: Theme::PLAIN,
             scroll: 0,
         })
@@ -79,16 +80,22 @@ mod tests {
         let mut b = Buffer::empty(Rect::new(0, 0, 80, 24));
         (&Popup {
             kind: PopupKind::Help,
-            log: &[],
-            notes: "",
+            data: PopupData {
+                log: &[],
+                notes: "",
+                sensitivity: None,
+            },
             theme: Theme::PLAIN,
             scroll: 1000,
         })
             .render(a.area, &mut a);
         (&Popup {
             kind: PopupKind::Help,
-            log: &[],
-            notes: "",
+            data: PopupData {
+                log: &[],
+                notes: "",
+                sensitivity: None,
+            },
             theme: Theme::PLAIN,
             scroll: u16::MAX,
         })
@@ -103,8 +110,11 @@ mod tests {
             let mut buf = Buffer::empty(Rect::new(0, 0, w, h));
             (&Popup {
                 kind: PopupKind::Help,
-                log: &[],
-                notes: "",
+                data: PopupData {
+                    log: &[],
+                    notes: "",
+                    sensitivity: None,
+                },
                 theme: Theme::COLOR,
                 scroll: 3,
             })

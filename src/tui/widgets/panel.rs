@@ -2,7 +2,7 @@
 //! constraints, each under a one-line titled rule.
 
 use crate::tui::format::{
-    num, pad_left_aligned, pad_right_aligned, resolved, scrub, signed, truncate,
+    num, pad_left_aligned, pad_right_aligned, resolved, scrub, short_control_name, signed, truncate,
 };
 use crate::tui::theme::Theme;
 use crate::view::{ControlRow, View};
@@ -27,52 +27,6 @@ pub struct ConstraintsPanel<'a> {
     pub view: &'a View,
     pub theme: Theme,
     pub selected: usize,
-}
-
-/// Short names of control-name segments, used when a full name does not fit.
-const SHORT: &[(&str, &str)] = &[
-    ("position", "pos"),
-    ("orientation", "rot"),
-    ("velocity", "vel"),
-    ("angular_velocity", "ω"),
-    ("mass", "m"),
-    ("inertia", "I"),
-    ("normal", "n"),
-    ("restitution", "e"),
-];
-
-/// `name` within `width` characters: as is; else the body, a space and
-/// the short quantity (`egg1.velocity.x` → `egg1 vel.x`, `plank ω.y`);
-/// else with the body cut so the quantity stays whole.
-pub fn short_control_name(name: &str, width: usize) -> String {
-    if name.chars().count() <= width {
-        return name.to_string();
-    }
-    let parts: Vec<&str> = name.split('.').collect();
-    let short: Vec<&str> = parts
-        .iter()
-        .map(|p| {
-            SHORT
-                .iter()
-                .find(|(long, _)| long == p)
-                .map_or(*p, |(_, s)| *s)
-        })
-        .collect();
-    if short.len() < 2 {
-        return truncate(name, width);
-    }
-    let (body, quantity) = (short[0], short[1..].join("."));
-    let joined = format!("{body} {quantity}");
-    if joined.chars().count() <= width {
-        return joined;
-    }
-    // Cut the body so the quantity and component stay.
-    let room = width.saturating_sub(quantity.chars().count() + 1);
-    if room >= 2 {
-        format!("{} {quantity}", truncate(body, room))
-    } else {
-        truncate(&joined, width)
-    }
 }
 
 fn titled(title: String, theme: Theme) -> Block<'static> {
