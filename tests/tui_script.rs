@@ -430,3 +430,53 @@ proptest! {
         prop_assert!(r.update_ms.iter().chain(&r.render_ms).all(|v| v.is_finite() && *v >= 0.0));
     }
 }
+
+/// The cell of the first braille dot on `row` of the canvas, if any.
+fn trace_cell(screen: &str, row: usize) -> Option<(u16, u16)> {
+    let line = screen.lines().nth(row)?;
+    let col = line
+        .chars()
+        .take(50)
+        .position(|c| ('\u{2801}'..='\u{28ff}').contains(&c))?;
+    Some((col as u16, row as u16))
+}
+
+/// A mouse drag in a key script moves the selected body as the keys do:
+/// one nudge to the right (no vertical part), twice as far for twice the
+/// cells, in the same direction as `l`.
+#[test]
+fn a_scripted_mouse_drag_nudges_like_the_keys() {
+    let first = run_script::<Key>(&mut FakeCore::new(), &[], (80, 24)).screen;
+    let (c, r) = (1..20)
+        .find_map(|row| trace_cell(&first, row))
+        .expect("a trace on the canvas");
+    let drag = |cells: u16| {
+        let script = format!(
+            "<LeftMouse:{c},{r}> <LeftDrag:{},{r}> <LeftRelease:{},{r}>",
+            c + cells,
+            c + cells
+        );
+        let steps = nudge::script::parse_script(&script, "drag.keys").expect("parses");
+        let mut core = FakeCore::new();
+        run_script(&mut core, &steps, (80, 24));
+        let nudges: Vec<Vec3> = core
+            .log
+            .iter()
+            .filter_map(|e| match e {
+                Edit::Nudge { delta, .. } => Some(*delta),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(nudges.len(), 1, "{:?}", core.log);
+        nudges[0]
+    };
+    let (two, four) = (drag(2), drag(4));
+    assert!(two.x > 0.0 && two.y == 0.0 && two.z == 0.0, "{two}");
+    assert!((four - 2.0 * two).norm() < 1e-12, "{four} vs {two}");
+    let mut core = FakeCore::new();
+    run_script(&mut core, &keys("l"), (80, 24));
+    match core.log.as_slice() {
+        [Edit::Nudge { delta, .. }] => assert!(delta.x > 0.0 && delta.z == 0.0),
+        other => panic!("{other:?}"),
+    }
+}
