@@ -216,4 +216,10 @@ pub trait Core {
     fn sensitivity(&self) -> Result<crate::view::Sensitivity, String> {
         Err("this core computes no Jacobians".into())
     }
+    /// Work deferred from the last edits (the integration error estimate
+    /// after a drag), done while the user pauses. Returns whether the view
+    /// changed.
+    fn idle(&mut self) -> bool {
+        false
+    }
 }

@@ -49,6 +49,18 @@ const UPDATE_PARTS: [Part; 5] = [
     Part::Estimate,
 ];
 
+/// Milliseconds of `part` spent inside updates: the error estimate also
+/// runs in the pauses after keys ([`RunResult::idle_ms`]), which is not
+/// update time.
+fn in_updates(r: &RunResult, part: Part) -> f64 {
+    let v = r.profile.get(part).1;
+    if part == Part::Estimate {
+        (v - r.idle_ms.iter().sum::<f64>()).max(0.0)
+    } else {
+        v
+    }
+}
+
 /// `steps` without the command lines that write or quit (`:w`, `:wq`,
 /// `:x`, `:q`): a replay for measuring must not touch files.
 pub fn without_saves(steps: &[Step]) -> Vec<Step> {
@@ -114,7 +126,8 @@ pub fn profile_table(r: &RunResult) -> String {
         }
     };
     for part in UPDATE_PARTS {
-        let (calls, v) = r.profile.get(part);
+        let calls = r.profile.get(part).0;
+        let v = in_updates(r, part);
         counted += v;
         t.row(vec![
             part.name().into(),
@@ -131,6 +144,14 @@ pub fn profile_table(r: &RunResult) -> String {
         ms(other),
         ms(other / updates),
         share(other),
+    ]);
+    let idle: f64 = r.idle_ms.iter().sum();
+    t.row(vec![
+        "error estimate in pauses".into(),
+        r.idle_ms.len().to_string(),
+        ms(idle),
+        String::new(),
+        String::new(),
     ]);
     let frames = r.render_ms.len().max(1) as f64;
     for part in [Part::View, Part::Render] {
@@ -185,7 +206,7 @@ pub(crate) fn print(out: &mut dyn Write) -> io::Result<()> {
         let mut row = vec![name.to_string(), r.update_ms.len().to_string()];
         row.extend(cells(r.update_latency()));
         for part in UPDATE_PARTS {
-            let v = r.profile.get(part).1;
+            let v = in_updates(&r, part);
             row.push(if total > 0.0 {
                 format!("{:.0}%", 100.0 * v / total)
             } else {

@@ -75,6 +75,10 @@ pub struct Editor {
     paths: Vec<view::Path>,
     /// `paths` before the last edit that changed the motion.
     ghost: Vec<view::Path>,
+    /// A nudge changed the motion and its integration error has not been
+    /// estimated since: done when the user pauses ([`Core::idle`]) or at
+    /// the next other edit, so a drag's frames do not wait for it.
+    estimate_due: bool,
     obstacle_lines: Vec<(Vec3, Vec3)>,
 }
 
@@ -161,6 +165,7 @@ impl Editor {
             wall_clock: true,
             paths: Vec::new(),
             ghost: Vec::new(),
+            estimate_due: false,
             obstacle_lines: Vec::new(),
         };
         e.refresh_geometry();

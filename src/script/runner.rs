@@ -28,6 +28,9 @@ pub struct RunResult {
     pub render_ms: Vec<f64>,
     /// Whether a key quit the editor (the remaining keys were not replayed).
     pub quit: bool,
+    /// Wall time of the work done in pauses after keys (the integration
+    /// error estimate deferred from drags), ms.
+    pub idle_ms: Vec<f64>,
     /// Where the updates' and frames' time went.
     pub profile: crate::profile::Profile,
     /// Command lines that did not parse (a misspelt command, a bad
@@ -122,6 +125,7 @@ pub fn run_script_with<S: Copy + Into<Step>>(
     let _ = crate::profile::take();
     let mut update_ms = Vec::new();
     let mut render_ms = Vec::new();
+    let mut idle_ms = Vec::new();
     if let Ok(ms) = draw(&mut terminal, core, &mut app) {
         render_ms.push(ms);
     }
@@ -157,6 +161,15 @@ pub fn run_script_with<S: Copy + Into<Step>>(
         if let Ok(ms) = draw(&mut terminal, core, &mut app) {
             render_ms.push(ms);
         }
+        // What the editor defers to a pause (as after each key in the
+        // terminal when no other key is waiting), timed on its own.
+        let start = std::time::Instant::now();
+        if core.idle() {
+            idle_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            if let Ok(ms) = draw(&mut terminal, core, &mut app) {
+                render_ms.push(ms);
+            }
+        }
         let stop = failed.is_some() && !keep_going;
         failures.extend(failed);
         if app.quit || stop {
@@ -170,6 +183,7 @@ pub fn run_script_with<S: Copy + Into<Step>>(
         render_ms,
         quit: app.quit,
         profile: crate::profile::take(),
+        idle_ms,
         failures,
     }
 }

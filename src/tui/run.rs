@@ -156,6 +156,11 @@ pub fn event_loop<B: Backend, C: Core, E: EventSource>(
         if app.quit {
             return Ok(());
         }
+        // Deferred work (the error estimate after a drag) when no key is
+        // waiting: a held key's frames do not wait for it.
+        if !events.poll(Duration::ZERO)? && core.idle() {
+            draw(terminal, core, app)?;
+        }
         let timeout = if app.playing {
             FRAME.saturating_sub(last_tick.elapsed())
         } else {

@@ -16,6 +16,7 @@ impl Editor {
         let label = self.describe(&edit);
         let (revision0, accuracy0) = (self.revision, self.scene.accuracy);
         let paths0 = self.paths.clone();
+        let is_nudge = matches!(edit, Edit::Nudge { .. });
         let adds_constraint = matches!(
             edit,
             Edit::Nail { .. } | Edit::Float { .. } | Edit::Expression(_) | Edit::Vertical { .. }
@@ -351,9 +352,15 @@ impl Editor {
             // that changes it.
             self.ghost = paths0;
         }
-        if self.revision != revision0 || self.scene.accuracy != accuracy0 {
-            // The motion changed: so may its accuracy.
-            notes.extend(self.estimate_error().map(Note::Accuracy));
+        if self.revision != revision0 || self.scene.accuracy != accuracy0 || self.estimate_due {
+            // The motion changed: so may its accuracy. During a drag the
+            // estimate waits until the user pauses.
+            if is_nudge {
+                self.estimate_due = true;
+            } else {
+                self.estimate_due = false;
+                notes.extend(self.estimate_error().map(Note::Accuracy));
+            }
         }
         self.status.residual = self.residual();
         self.status.message = notes.last().map(ToString::to_string);

@@ -121,6 +121,18 @@ impl Core for Editor {
         self.revision != self.saved_revision
     }
 
+    fn idle(&mut self) -> bool {
+        if !self.estimate_due {
+            return false;
+        }
+        self.estimate_due = false;
+        let note = self.estimate_error();
+        if note.is_some() {
+            self.status.message = note;
+        }
+        true
+    }
+
     fn sensitivity(&self) -> Result<view::Sensitivity, String> {
         let body = self
             .scene
