@@ -13,4 +13,5 @@ mod constraint;
 mod update;
 
 pub use constraint::{Anchor, Constraint, ConstraintError, Kind};
+pub(crate) use update::causal_events;
 pub use update::{Diagnostic, SolveError, UpdateOptions, UpdateResult, kkt, residual_norm, update};
