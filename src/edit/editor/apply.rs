@@ -12,6 +12,12 @@ impl Editor {
         let mut changed = true;
         let mut diagnostics: Vec<String> = Vec::new();
         let (revision0, accuracy0) = (self.revision, self.scene.accuracy);
+        // A blocked drag stays the pending goal while the user looks around
+        // or nudges again; any other edit retires it.
+        let retires_drag = !matches!(
+            edit,
+            Edit::SelectBody(_) | Edit::SelectTime(_) | Edit::SelectEvent(_) | Edit::Nudge { .. }
+        );
         let adds_constraint = matches!(
             edit,
             Edit::Nail { .. } | Edit::Float { .. } | Edit::Expression(_) | Edit::Vertical { .. }
@@ -275,6 +281,10 @@ impl Editor {
                 self.rebuild()?;
                 self.status.accuracy = acc.label();
             }
+            Edit::SetControls(u) => {
+                self.set_controls(&u)?;
+                changed = self.values() != old_values;
+            }
             Edit::Settle { budget_ms } => {
                 let d = self.settle(budget_ms)?;
                 diagnostics.extend(d.iter().map(|x| x.to_string()));
@@ -320,6 +330,9 @@ impl Editor {
         self.status.residual = self.residual();
         self.status.message = diagnostics.last().cloned();
         self.edits += 1;
+        if retires_drag {
+            self.pending_drag = None;
+        }
         Ok(Outcome {
             updates: self.updates - updates0,
             elapsed_ms: started.elapsed().as_secs_f64() * 1e3,
