@@ -9,7 +9,7 @@ use super::measure::{Plan, guarded};
 use super::table::{Align, Table, num};
 use crate::edit::Editor;
 use crate::explore::{self, Exploration, ExploreOptions, Progress, Start};
-use crate::script::{parse_keys, run_script};
+use crate::script::{Key, KeyCode, parse_keys, run_script};
 use crate::solve::Constraint;
 use std::io::{self, Write};
 use std::path::Path;
@@ -49,9 +49,28 @@ fn session(name: &str, case: &Case) -> Option<Result<Editor, String>> {
         let keys = parse_keys(&text, &path.display().to_string()).map_err(|e| e.to_string())?;
         let mut editor = Editor::new(case.scene.clone(), None).map_err(|e| e.to_string())?;
         editor.set_wall_clock(false);
-        run_script(&mut editor, &keys, (80, 24));
+        run_script(&mut editor, &without_saves(&keys), (80, 24));
         Ok(editor)
     })())
+}
+
+/// The keys without their `:w…` commands: the benchmark replays a
+/// session for its constraints and never writes the files it saves.
+fn without_saves(keys: &[Key]) -> Vec<Key> {
+    let mut out = Vec::with_capacity(keys.len());
+    let mut skipping = false;
+    for (i, k) in keys.iter().enumerate() {
+        let next = keys.get(i + 1).map(|n| n.code);
+        if !skipping && k.code == KeyCode::Char(':') && next == Some(KeyCode::Char('w')) {
+            skipping = true;
+        }
+        if skipping {
+            skipping = !matches!(k.code, KeyCode::Enter | KeyCode::Esc);
+        } else {
+            out.push(*k);
+        }
+    }
+    out
 }
 
 /// How far exploring simulates each world: just past the last constrained
@@ -188,4 +207,18 @@ pub(crate) fn print(out: &mut dyn Write, plan: &Plan, paper: &[Entry]) -> io::Re
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn saves_are_left_out_of_a_replayed_session() {
+        let keys =
+            parse_keys("l :w<Space>out.toml<CR> :t<Space>1<CR> :wq<Esc> h", "t").expect("keys");
+        let kept = without_saves(&keys);
+        let want = parse_keys("l :t<Space>1<CR> h", "t").expect("keys");
+        assert_eq!(kept, want);
+    }
 }
