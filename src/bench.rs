@@ -15,7 +15,9 @@
 //! - `latency`: replay of every paper editing session, with where the
 //!   update time goes;
 //! - `cliffs`: scenes whose cost is out of proportion (a fine ellipsoid
-//!   rocking to rest), with their event counts.
+//!   rocking to rest), with their event counts;
+//! - `explore`: sampled worlds per second when exploring, per paper scene,
+//!   and the distinct collision sequences found.
 //!
 //! The last line is always the summary: how much faster and more accurate
 //! tangents are than central differences (median over paper scenes).
@@ -25,6 +27,7 @@
 mod cases;
 mod cliffs;
 mod effects;
+mod explore;
 mod fd;
 mod jacobian;
 mod latency;
@@ -55,7 +58,7 @@ pub struct BenchArgs {
 }
 
 /// Section names, in run order.
-pub const SECTIONS: [&str; 7] = [
+pub const SECTIONS: [&str; 8] = [
     "jacobian",
     "work-precision",
     "methods",
@@ -63,6 +66,7 @@ pub const SECTIONS: [&str; 7] = [
     "effects",
     "latency",
     "cliffs",
+    "explore",
 ];
 
 /// State shared by the sections: the paper scenes with their reference
@@ -180,6 +184,10 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write) -> std::io::Result<()> {
             "cliffs" => {
                 heading(out, name, "scenes whose cost is out of proportion")?;
                 cliffs::print(out, &plan)?;
+            }
+            "explore" => {
+                heading(out, name, "sampled worlds per second when exploring")?;
+                explore::print(out, &plan, &cases::paper())?;
             }
             _ => {}
         }

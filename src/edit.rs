@@ -123,6 +123,10 @@ pub enum Edit {
     SetScale { kind: ScaleKind, value: f64 },
     /// Change the accuracy settings.
     SetAccuracy(Accuracy),
+    /// Set the free controls (the control vector `u`, in the order of
+    /// `Controls::free`) to these values at once, e.g. an alternative that
+    /// exploring found (`crate::explore`); undoable like any edit.
+    SetControls(Vec<f64>),
     /// Iterate updates until the constraints are met or progress stalls,
     /// within `budget_ms` of wall time.
     Settle { budget_ms: u64 },

@@ -4,6 +4,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use nudge::controls::Controls;
 use nudge::edit::{Core, Editor};
+use nudge::explore::{ExploreOptions, Progress, Start};
 use nudge::scene::{self, Scene};
 use nudge::sim::{SimOptions, simulate};
 use std::io::Write;
@@ -57,6 +58,24 @@ enum Command {
         /// Print where the updates' time went, part by part.
         #[arg(long)]
         profile: bool,
+    },
+    /// Sample many worlds around the current controls (in parallel) and
+    /// list the best alternative per collision sequence.
+    Explore {
+        scene: PathBuf,
+        /// Replay this keystroke script first and explore from where it
+        /// leaves the editor (its blocked drag, if any, is the goal).
+        #[arg(long)]
+        keys: Option<PathBuf>,
+        /// Worlds to sample.
+        #[arg(long, default_value_t = ExploreOptions::default().samples)]
+        samples: usize,
+        /// Seed of the sampler: the same seed gives the same alternatives.
+        #[arg(long, default_value_t = ExploreOptions::default().seed)]
+        seed: u64,
+        /// Print the alternatives as one JSON object.
+        #[arg(long)]
+        json: bool,
     },
     /// Print what accuracy costs in time.
     Bench {
@@ -126,6 +145,13 @@ fn real_main() -> Result<()> {
         }) => run(
             &scene, &keys, report, screen, &size, trace_svg, keep_going, profile,
         ),
+        Some(Command::Explore {
+            scene,
+            keys,
+            samples,
+            seed,
+            json,
+        }) => explore(&scene, keys.as_deref(), samples, seed, json),
         Some(Command::Bench { quick, csv, only }) => {
             let args = nudge::bench::BenchArgs { quick, csv, only };
             nudge::bench::run(&args, &mut std::io::stdout().lock())?;
@@ -213,6 +239,36 @@ fn parse_size(size: &str) -> Result<(u16, u16)> {
     Ok((w, h))
 }
 
+fn read_keys(keys: &Path) -> Result<Vec<nudge::script::Step>> {
+    let text = nudge::files::read_regular_text(keys, nudge::files::MAX_TEXT_BYTES)
+        .with_context(|| format!("reading the key script {}", keys.display()))?;
+    nudge::script::parse_script(&text, &keys.display().to_string())
+        .map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+fn explore(path: &Path, keys: Option<&Path>, samples: usize, seed: u64, json: bool) -> Result<()> {
+    let parsed = keys.map(read_keys).transpose()?;
+    let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
+    editor.set_wall_clock(false);
+    if let Some(keys) = &parsed {
+        nudge::script::run_script(&mut editor, keys, (80, 24));
+    }
+    let opts = ExploreOptions {
+        samples,
+        seed,
+        ..ExploreOptions::default()
+    };
+    let found = nudge::explore::run(&Start::from_editor(&editor), &opts, &Progress::default())?;
+    let out = &mut std::io::stdout().lock();
+    if json {
+        let v = nudge::explore::json(editor.scene(), &found);
+        writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
+    } else {
+        write!(out, "{}", nudge::explore::text(editor.scene(), &found))?;
+    }
+    Ok(())
+}
+
 #[allow(clippy::too_many_arguments)]
 fn run(
     path: &Path,
@@ -225,10 +281,7 @@ fn run(
     profile: bool,
 ) -> Result<()> {
     let size = parse_size(size)?;
-    let text = nudge::files::read_regular_text(keys, nudge::files::MAX_TEXT_BYTES)
-        .with_context(|| format!("reading the key script {}", keys.display()))?;
-    let parsed = nudge::script::parse_script(&text, &keys.display().to_string())
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let parsed = read_keys(keys)?;
     let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
     // A replay is deterministic: settles stop by convergence, not the clock.
     editor.set_wall_clock(false);

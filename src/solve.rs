@@ -15,4 +15,5 @@ mod update;
 
 pub use constraint::{Anchor, Constraint, ConstraintError, Kind};
 pub use explain::{Blocker, blockers};
+pub(crate) use update::causal_events;
 pub use update::{Diagnostic, SolveError, UpdateOptions, UpdateResult, kkt, residual_norm, update};

@@ -153,13 +153,53 @@ fn latency_replays_every_paper_session_with_its_parts() {
 #[test]
 fn unknown_section_lists_the_sections() {
     let text = bench("no-such-section");
-    assert!(text.contains("no section matches --only \"no-such-section\"; sections: jacobian, work-precision, methods, scaling, effects, latency, cliffs"), "{text}");
+    assert!(text.contains("no section matches --only \"no-such-section\"; sections: jacobian, work-precision, methods, scaling, effects, latency, cliffs, explore"), "{text}");
     assert!(
         text.lines()
             .last()
             .unwrap_or_default()
             .starts_with("summary: ")
     );
+}
+
+/// The explore section samples worlds on every paper scene, from its
+/// unedited motion and from where its paper session leaves the editor, and
+/// states the target for single-body scenes.
+#[test]
+fn explore_counts_worlds_per_second_per_scene() {
+    let text = bench("explore");
+    no_nan(&text);
+    let rows = table_rows(&text, "explore");
+    let names: Vec<String> = rows.iter().map(|r| r[0].replace('*', "")).collect();
+    let scenes = [
+        "eggs",
+        "plank",
+        "mug",
+        "scissors",
+        "scissors-bounce",
+        "particle-parabola",
+        "particle-polygon",
+    ];
+    let want: Vec<String> = scenes
+        .iter()
+        .flat_map(|s| [s.to_string(), format!("{s} session")])
+        .collect();
+    assert_eq!(names, want, "{text}");
+    for r in &rows {
+        assert_eq!(r.len(), 9, "{r:?}");
+        assert_eq!(r[4], "256", "worlds: {r:?}");
+        let sequences: usize = r[6].parse().unwrap_or(0);
+        assert!(sequences >= 1, "at least one collision sequence: {r:?}");
+        positive_ms(&r[8], "worlds/s");
+    }
+    for what in ["whole motions", "after the sessions"] {
+        assert!(
+            text.contains(&format!(
+                "  target: ≥ 2000 worlds/s for single-body scenes, {what}: met on "
+            )),
+            "{text}"
+        );
+    }
 }
 
 /// The scaling sweeps print finite positive times and a growth exponent

@@ -90,10 +90,20 @@ pub fn without_saves(steps: &[Step]) -> Vec<Step> {
     out
 }
 
-/// Replay one paper session; `None` with the reason if it cannot run.
-fn replay(name: &str, keys: &str) -> Result<RunResult, String> {
+/// The steps of paper session `name` without its saves, or why not.
+pub(crate) fn session_steps(name: &str) -> Result<Vec<Step>, String> {
+    let (_, keys) = SESSIONS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| format!("no paper session for {name}"))?;
     let steps =
         parse_script(keys, &format!("tests/sessions/{name}.keys")).map_err(|e| e.to_string())?;
+    Ok(without_saves(&steps))
+}
+
+/// Replay one paper session, or say why it cannot run.
+fn replay(name: &str) -> Result<RunResult, String> {
+    let steps = session_steps(name)?;
     let (_, scene_text) = PAPER_SCENES
         .iter()
         .find(|(n, _)| *n == name)
@@ -102,7 +112,7 @@ fn replay(name: &str, keys: &str) -> Result<RunResult, String> {
     let mut editor = Editor::new(scene, None).map_err(|e| e.to_string())?;
     // Deterministic: settles stop by convergence, not the clock.
     editor.set_wall_clock(false);
-    Ok(run_script(&mut editor, &without_saves(&steps), SCREEN))
+    Ok(run_script(&mut editor, &steps, SCREEN))
 }
 
 /// The profile of a replay as a table: per part, calls, total, per update
@@ -189,8 +199,8 @@ pub(crate) fn print(out: &mut dyn Write) -> io::Result<()> {
         ("frame p95 [ms]", Align::Right),
     ]);
     let mut all = Profile::default();
-    for (name, keys) in SESSIONS {
-        let r = match replay(name, keys) {
+    for (name, _) in SESSIONS {
+        let r = match replay(name) {
             Ok(r) => r,
             Err(e) => {
                 t.message(vec![name.into()], e);

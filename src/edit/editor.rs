@@ -80,6 +80,10 @@ pub struct Editor {
     /// the next other edit, so a drag's frames do not wait for it.
     estimate_due: bool,
     obstacle_lines: Vec<(Vec3, Vec3)>,
+    /// The drag of the last nudge when it was blocked: the goal the
+    /// gradients could not reach, kept for exploring (`crate::explore`)
+    /// until an edit other than a selection or another nudge.
+    pending_drag: Option<Constraint>,
 }
 
 fn invalid(msg: impl Into<String>) -> EditError {
@@ -167,6 +171,7 @@ impl Editor {
             ghost: Vec::new(),
             estimate_due: false,
             obstacle_lines: Vec::new(),
+            pending_drag: None,
         };
         e.refresh_geometry();
         e.status.residual = e.residual();
@@ -222,6 +227,13 @@ impl Editor {
     /// The constraints (nails, floating, expressions).
     pub fn constraints(&self) -> &[Constraint] {
         &self.constraints
+    }
+
+    /// The drag of the last nudge if it was blocked (see [`Edit::Nudge`]
+    /// and `crate::explore`): what the user asked for and the gradients
+    /// could not reach.
+    pub fn pending_drag(&self) -> Option<&Constraint> {
+        self.pending_drag.as_ref()
     }
 
     /// Wall times of all differential updates so far, ms.
@@ -438,7 +450,7 @@ impl Editor {
             drag: true,
         };
         let mut all = self.constraints.clone();
-        all.push(drag);
+        all.push(drag.clone());
         let (moved, mut diags, _) = self.step(&all)?;
         let fraction = self.status.step;
         let blocked = diags.iter().any(|d| {
@@ -454,6 +466,10 @@ impl Editor {
         } else {
             Vec::new()
         };
+        self.pending_drag = diags
+            .iter()
+            .any(|d| matches!(d, Diagnostic::Blocked))
+            .then_some(drag);
         if self.constraints.is_empty() {
             // Only the drag: nothing conflicts, the controls just cannot
             // follow it all the way.
@@ -487,6 +503,41 @@ impl Editor {
             notes.push(Note::BlockedBy(blockers));
         }
         Ok(notes)
+    }
+
+    /// Write `u` (values of the free controls, in column order) into the
+    /// scene and simulate the motion it gives.
+    fn set_controls(&mut self, u: &[f64]) -> Result<(), EditError> {
+        let m = self.controls.m();
+        if u.len() != m {
+            return Err(invalid(format!(
+                "{} control values given, but the scene has {m} free controls",
+                u.len()
+            )));
+        }
+        let (lo, hi) = self.controls.bounds();
+        for (k, &v) in u.iter().enumerate() {
+            let name = &self.controls.entries[self.controls.free[k]].name;
+            if !v.is_finite() {
+                return Err(invalid(format!("{name} must be a finite number")));
+            }
+            if v < lo[k] {
+                return Err(invalid(format!(
+                    "{name} = {v} is below its least value {}",
+                    lo[k]
+                )));
+            }
+            if v > hi[k] {
+                return Err(invalid(format!(
+                    "{name} = {v} is above its greatest value {}",
+                    hi[k]
+                )));
+            }
+        }
+        self.controls
+            .write(&mut self.scene, &nalgebra::DVector::from_column_slice(u));
+        self.traj = simulate_with_tangent(&self.scene, &self.controls)?;
+        Ok(())
     }
 
     fn settle(&mut self, budget_ms: u64) -> Result<Vec<Diagnostic>, EditError> {

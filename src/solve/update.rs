@@ -307,6 +307,16 @@ fn bounded_kkt(
 /// transitively. A bounce of a body the constrained one never touched, or
 /// one after its constrained time, is not a discontinuity of the edit.
 fn causal_signature(tr: &Trajectory, constraints: &[Constraint]) -> Vec<String> {
+    tr.signature()
+        .into_iter()
+        .zip(causal_events(tr, constraints))
+        .filter_map(|(s, k)| k.then_some(s))
+        .collect()
+}
+
+/// Which of `tr`'s events are in the causal past of the constrained
+/// states (see [`causal_signature`]), one flag per event.
+pub(crate) fn causal_events(tr: &Trajectory, constraints: &[Constraint]) -> Vec<bool> {
     let bodies = tr.tracks.len();
     let mut until = vec![f64::NEG_INFINITY; bodies];
     for c in constraints {
@@ -318,7 +328,6 @@ fn causal_signature(tr: &Trajectory, constraints: &[Constraint]) -> Vec<String> 
             }
         }
     }
-    let signature = tr.signature();
     let mut keep = vec![false; tr.events.len()];
     for (k, e) in tr.events.iter().enumerate().rev() {
         let other = match e.b {
@@ -335,11 +344,7 @@ fn causal_signature(tr: &Trajectory, constraints: &[Constraint]) -> Vec<String> 
             }
         }
     }
-    signature
-        .into_iter()
-        .zip(keep)
-        .filter_map(|(s, k)| k.then_some(s))
-        .collect()
+    keep
 }
 
 /// Simulate `u` up to `until` (the whole motion for `None`) and evaluate

@@ -17,6 +17,12 @@ impl Editor {
         let (revision0, accuracy0) = (self.revision, self.scene.accuracy);
         let paths0 = self.paths.clone();
         let is_nudge = matches!(edit, Edit::Nudge { .. });
+        // A blocked drag stays the pending goal while the user looks around
+        // or nudges again; any other edit retires it.
+        let retires_drag = !matches!(
+            edit,
+            Edit::SelectBody(_) | Edit::SelectTime(_) | Edit::SelectEvent(_) | Edit::Nudge { .. }
+        );
         let adds_constraint = matches!(
             edit,
             Edit::Nail { .. } | Edit::Float { .. } | Edit::Expression(_) | Edit::Vertical { .. }
@@ -305,6 +311,10 @@ impl Editor {
                 self.rebuild()?;
                 self.status.accuracy = acc.label();
             }
+            Edit::SetControls(u) => {
+                self.set_controls(&u)?;
+                changed = self.values() != old_values;
+            }
             Edit::Settle { budget_ms } => {
                 let d = self.settle(budget_ms)?;
                 notes.extend(d.into_iter().map(Note::Solver));
@@ -365,6 +375,9 @@ impl Editor {
         self.status.residual = self.residual();
         self.status.message = notes.last().map(ToString::to_string);
         self.edits += 1;
+        if retires_drag {
+            self.pending_drag = None;
+        }
         Ok(Outcome {
             updates: self.updates - updates0,
             elapsed_ms: started.elapsed().as_secs_f64() * 1e3,

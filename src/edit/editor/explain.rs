@@ -38,6 +38,7 @@ impl Editor {
             Edit::SetScale { kind, .. } => format!("scale of {}", kind.name()),
             Edit::SetAccuracy(a) => format!("accuracy {}", a.label()),
             Edit::Settle { .. } => "settle".into(),
+            Edit::SetControls(_) => "choice of an explored alternative".into(),
             Edit::SelectBody(_) | Edit::SelectTime(_) | Edit::SelectEvent(_) => "selection".into(),
             Edit::Undo | Edit::Redo => String::new(),
         }

@@ -1,0 +1,413 @@
+//! Exploring (docs/design.md §12): sampling many worlds finds motions the
+//! gradients cannot reach, an alternative becomes the motion by an undoable
+//! edit, and the result does not depend on the number of threads.
+
+use nalgebra::Vector3;
+use nudge::edit::{Core, Edit, Editor};
+use nudge::explore::{self, Alternative, Exploration, ExploreOptions, Progress, Start, Tally};
+use nudge::scene::StateQuantity;
+use nudge::script::{parse_keys, run_script};
+use nudge::sim::{Party, Side};
+use nudge::solve::{Anchor, Kind};
+use std::cell::RefCell;
+use std::path::Path;
+use std::process::Command;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The editor after replaying `tests/fixtures/explore/<keys>.keys` on
+/// `scenes/<scene>.toml`.
+fn replay(scene: &str, keys: &str) -> Editor {
+    let mut editor =
+        Editor::open(&root().join("scenes").join(format!("{scene}.toml"))).expect("scene opens");
+    editor.set_wall_clock(false);
+    let path = root()
+        .join("tests/fixtures/explore")
+        .join(format!("{keys}.keys"));
+    let text = std::fs::read_to_string(&path).expect("key script");
+    let keys = parse_keys(&text, &path.display().to_string()).expect("keys parse");
+    run_script(&mut editor, &keys, (100, 30));
+    editor
+}
+
+/// Explore from the editor's state on a pool of `threads` threads.
+fn explore_in(threads: usize, editor: &Editor, opts: &ExploreOptions) -> Exploration {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
+    let start = Start::from_editor(editor);
+    pool.install(|| explore::run(&start, opts, &Progress::default()))
+        .expect("explores")
+}
+
+/// The values of the free controls.
+fn controls(editor: &Editor) -> Vec<f64> {
+    editor
+        .controls()
+        .values(editor.scene())
+        .iter()
+        .copied()
+        .collect()
+}
+
+/// The body's position at time `t`.
+fn position(editor: &Editor, body: usize, t: f64) -> Vector3<f64> {
+    editor.trajectory().state(body, t, Side::Post).x
+}
+
+/// (a) Paper §5: at t = 1 s the drag of the ball to the right is blocked
+/// at the ridge: no smooth motion gets nearer and the solver's sampling
+/// finds none either. Exploring from there finds motions in other
+/// collision sequences, among them one that bounces off the facet beyond
+/// the ridge; accepted, it is the motion, and from it differential edits
+/// (nudges towards the goal) meet the drag's goal.
+#[test]
+fn a_drag_blocked_at_the_ridge_is_met_from_an_alternative_beyond_it() {
+    let mut editor = replay("particle-polygon", "polygon-blocked");
+    let goal = editor
+        .pending_drag()
+        .cloned()
+        .expect("the last drag was blocked");
+    let (Anchor::Time(t), Kind::State { target, .. }) = (goal.anchor, &goal.kind) else {
+        panic!("a drag of a state at a time: {goal:?}");
+    };
+    let target = Vector3::new(target[0], target[1], target[2]);
+    let miss = |e: &Editor| (target - position(e, 0, t)).norm();
+    assert!(
+        miss(&editor) > 0.1,
+        "the drag was not met: {}",
+        miss(&editor)
+    );
+    let first = editor.trajectory().events[0].clone();
+    assert!(first.point.x < 0.0, "the bounce is left of the ridge");
+
+    let opts = ExploreOptions {
+        keep: 64,
+        ..ExploreOptions::default()
+    };
+    let x = explore_in(2, &editor, &opts);
+    assert!(x.goal.is_some() && x.worlds == opts.samples, "{x:?}");
+    assert!(
+        x.current.residual > 0.1,
+        "current residual {}",
+        x.current.residual
+    );
+    // The best alternative meets the goal that the gradients could not.
+    let best = &x.alternatives[0];
+    assert!(
+        best.residual < 1e-6 && best.score < x.current.residual,
+        "best alternative: {best:?}"
+    );
+    let beyond: &Alternative = x
+        .alternatives
+        .iter()
+        .find(|a| {
+            a.contacts
+                .first()
+                .is_some_and(|c| c.other == "hill" && c.feature == "face f2-3-9-10")
+        })
+        .unwrap_or_else(|| {
+            panic!(
+                "no alternative bounces beyond the ridge:\n{}",
+                explore::text(editor.scene(), &x)
+            )
+        });
+    assert!(
+        beyond.description.contains("f2-3-9-10"),
+        "{}",
+        beyond.description
+    );
+
+    editor
+        .apply(beyond.edit())
+        .expect("the alternative is accepted");
+    assert!(
+        editor.pending_drag().is_none(),
+        "accepting retires the goal"
+    );
+    assert_eq!(controls(&editor), beyond.controls);
+    let bounce = &editor.trajectory().events[0];
+    assert!(
+        bounce.key.contains("f2-3-9-10") && bounce.point.x > 0.0,
+        "the accepted motion bounces beyond the ridge: {} at {:?}",
+        bounce.key,
+        bounce.point
+    );
+    let before = miss(&editor);
+    let mut nudges = 0;
+    while miss(&editor) > 1e-9 && nudges < 20 {
+        let delta = target - position(&editor, 0, t);
+        editor
+            .apply(Edit::Nudge {
+                quantity: StateQuantity::Position,
+                delta,
+            })
+            .expect("nudge");
+        nudges += 1;
+    }
+    assert!(
+        miss(&editor) < 1e-9,
+        "{nudges} nudges from {before:.3} m left {:.3e} m to the goal",
+        miss(&editor)
+    );
+}
+
+/// (b) Paper §6, Figure 5a: from the unedited throw, with each egg nailed
+/// over its bucket, exploring finds a motion in which the eggs meet in
+/// the air and each lands in its own bucket; a settle from it meets both
+/// nails to 1e-9 and keeps the collision. (Settling from the unedited
+/// throw meets the nails too, but with the eggs never touching: that is
+/// among the alternatives as well, polished from the current controls.)
+#[test]
+fn eggs_nailed_in_their_buckets_meet_in_the_air_after_exploring() {
+    let mut editor = replay("eggs", "eggs-nailed");
+    assert_eq!(editor.constraints().len(), 2, "two nails");
+    let x = explore_in(2, &editor, &ExploreOptions::default());
+    assert!(
+        x.current.residual > 1.0,
+        "the nails are far: {}",
+        x.current.residual
+    );
+    let meets = |a: &&Alternative| {
+        a.contacts
+            .iter()
+            .any(|c| c.body == "egg1" && c.other == "egg2")
+    };
+    let alt = x.alternatives.iter().find(meets).unwrap_or_else(|| {
+        panic!(
+            "no alternative where the eggs meet:\n{}",
+            explore::text(editor.scene(), &x)
+        )
+    });
+    assert!(
+        alt.description.contains("egg1 now hits egg2"),
+        "{}",
+        alt.description
+    );
+    assert!(alt.residual < 0.05, "close to both nails: {alt:?}");
+    assert!(
+        x.alternatives
+            .iter()
+            .any(|a| a.same_as_current && a.sample.is_none()),
+        "the gradients' own path is listed too"
+    );
+
+    editor
+        .apply(alt.edit())
+        .expect("the alternative is accepted");
+    editor
+        .apply(Edit::Settle { budget_ms: 500 })
+        .expect("settles");
+    let residual = editor.report()["residual"].as_f64().expect("residual");
+    assert!(residual <= 1e-9, "settled residual {residual:.3e}");
+    let egg = |name: &str| editor.scene().body_index(name).expect("egg");
+    let (egg1, egg2) = (egg("egg1"), egg("egg2"));
+    let meet = editor
+        .trajectory()
+        .events
+        .iter()
+        .find(|e| e.a == egg1 && e.b == Party::Body(egg2))
+        .expect("the eggs still meet");
+    assert!(meet.point.z > 1.0, "in the air: {:?}", meet.point);
+    let end = editor.scene().duration;
+    for (body, centre) in [(egg1, -1.1), (egg2, 1.1)] {
+        let p = position(&editor, body, end);
+        assert!(
+            (p.x - centre).abs() < 0.25 && p.y.abs() < 0.25 && p.z < 0.3,
+            "egg {body} ends at {p:?}, not in its bucket at x = {centre}"
+        );
+    }
+}
+
+/// (c) The same seed gives the same alternatives on one thread and on
+/// two: samples draw from their own streams, reductions go in index order.
+#[test]
+fn one_and_two_threads_find_the_same_alternatives() {
+    let opts = ExploreOptions {
+        samples: 384,
+        batch: 100,
+        ..ExploreOptions::default()
+    };
+    for (scene, keys) in [
+        ("particle-polygon", "polygon-blocked"),
+        ("eggs", "eggs-nailed"),
+    ] {
+        let editor = replay(scene, keys);
+        let one = explore_in(1, &editor, &opts);
+        let two = explore_in(2, &editor, &opts);
+        assert!(!one.alternatives.is_empty(), "{scene}");
+        assert_eq!(one, two, "{scene}: 1 and 2 threads differ");
+        let other = explore_in(
+            2,
+            &editor,
+            &ExploreOptions {
+                seed: opts.seed + 1,
+                ..opts
+            },
+        );
+        assert_ne!(
+            one.alternatives, other.alternatives,
+            "{scene}: another seed, other samples"
+        );
+    }
+}
+
+/// Progress is reported after every batch, and the cancel flag stops the
+/// run after the batch in which it was set, returning what was found.
+#[test]
+fn progress_is_reported_and_a_cancel_stops_between_batches() {
+    let editor = replay("particle-polygon", "polygon-blocked");
+    let start = Start::from_editor(&editor);
+    let opts = ExploreOptions {
+        samples: 300,
+        batch: 64,
+        ..ExploreOptions::default()
+    };
+    let seen: RefCell<Vec<Tally>> = RefCell::new(Vec::new());
+    let cancel = AtomicBool::new(false);
+    let report = |t: &Tally| {
+        seen.borrow_mut().push(*t);
+        if t.worlds >= 128 {
+            cancel.store(true, Ordering::Relaxed);
+        }
+    };
+    let progress = Progress {
+        cancel: Some(&cancel),
+        report: Some(&report),
+    };
+    let x = explore::run(&start, &opts, &progress).expect("explores");
+    let seen = seen.into_inner();
+    let worlds: Vec<usize> = seen.iter().map(|t| t.worlds).collect();
+    assert_eq!(worlds, [64, 128], "{seen:?}");
+    assert!(
+        x.cancelled && x.worlds == 128 && x.polish_updates == 0,
+        "{x:?}"
+    );
+    assert!(!x.alternatives.is_empty());
+    let best = seen.last().and_then(|t| t.best).expect("a best score");
+    assert_eq!(best, x.alternatives[0].score, "the best so far is the best");
+
+    // Without cancelling, all batches run and the last report has them all.
+    let count = RefCell::new(0);
+    let report = |t: &Tally| {
+        *count.borrow_mut() += 1;
+        assert!(t.worlds <= t.planned && t.failed + t.non_finite <= t.worlds);
+    };
+    let progress = Progress {
+        cancel: None,
+        report: Some(&report),
+    };
+    let x = explore::run(&start, &opts, &progress).expect("explores");
+    assert!(!x.cancelled && x.worlds == 300);
+    // Five batches and one report after polishing.
+    assert_eq!(count.into_inner(), 6);
+}
+
+/// Accepting an alternative is one edit: undo restores the controls and
+/// the motion, redo brings the alternative back, and values the controls
+/// cannot take are refused with nothing changed.
+#[test]
+fn set_controls_is_undoable_and_checked() {
+    let mut editor = replay("particle-polygon", "polygon-blocked");
+    let u0 = controls(&editor);
+    let end0 = position(&editor, 0, 1.0);
+    let mut u = u0.clone();
+    u[3] += 0.5;
+    u[5] -= 0.25;
+    editor.apply(Edit::SetControls(u.clone())).expect("applies");
+    assert_eq!(controls(&editor), u);
+    assert!(editor.dirty());
+    let end = position(&editor, 0, 1.0);
+    assert!((end - end0).norm() > 0.1, "the motion changed");
+    editor.apply(Edit::Undo).expect("undo");
+    assert_eq!(controls(&editor), u0, "undo restores the controls");
+    assert_eq!(position(&editor, 0, 1.0), end0, "and the motion");
+    editor.apply(Edit::Redo).expect("redo");
+    assert_eq!(controls(&editor), u);
+
+    for bad in [vec![0.0; 2], {
+        let mut v = u.clone();
+        v[0] = f64::NAN;
+        v
+    }] {
+        let e = editor.apply(Edit::SetControls(bad)).expect_err("refused");
+        assert!(!e.to_string().contains("NaN"), "{e}");
+        assert_eq!(controls(&editor), u, "nothing changed");
+    }
+}
+
+fn nudge_cli(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_nudge"))
+        .current_dir(root())
+        .args(args)
+        .output()
+        .expect("runs nudge")
+}
+
+/// `nudge explore` replays the keys, explores from the blocked drag and
+/// prints the alternatives (as JSON here); bad input is a plain error.
+#[test]
+fn the_cli_explores_after_the_keys_and_refuses_bad_input() {
+    let out = nudge_cli(&[
+        "explore",
+        "scenes/particle-polygon.toml",
+        "--keys",
+        "tests/fixtures/explore/polygon-blocked.keys",
+        "--samples",
+        "256",
+        "--seed",
+        "7",
+        "--json",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        !stdout.contains("NaN") && !stdout.contains("inf"),
+        "{stdout}"
+    );
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    assert_eq!(v["worlds"], 256);
+    assert!(
+        v["goal"]["what"]
+            .as_str()
+            .is_some_and(|g| g.contains("drag of ball"))
+    );
+    let alts = v["alternatives"].as_array().expect("alternatives");
+    assert!(!alts.is_empty());
+    for a in alts {
+        assert_eq!(a["controls"].as_array().map(Vec::len), Some(6), "{a}");
+        assert!(a["score"].as_f64().is_some() && a["description"].is_string());
+        assert!(a["signature"].is_array());
+    }
+
+    let text = nudge_cli(&["explore", "scenes/bounce.toml", "--samples", "64"]);
+    let stdout = String::from_utf8_lossy(&text.stdout);
+    assert!(text.status.success(), "{stdout}");
+    assert!(
+        stdout.starts_with("explore bounce: 64 worlds sampled"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("what differs") && stdout.contains("controls:"));
+
+    let bad = nudge_cli(&["explore", "scenes/bounce.toml", "--samples", "0"]);
+    assert!(!bad.status.success());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("samples must be at least 1, got 0"), "{err}");
+    let bad = nudge_cli(&[
+        "explore",
+        "scenes/bounce.toml",
+        "--keys",
+        "tests/fixtures/explore/missing.keys",
+    ]);
+    assert!(!bad.status.success());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("reading the key script"), "{err}");
+}
