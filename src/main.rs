@@ -6,6 +6,7 @@ use nudge::controls::Controls;
 use nudge::edit::{Core, Editor};
 use nudge::scene::{self, Scene};
 use nudge::sim::{SimOptions, simulate};
+use nudge::tangent::{FiniteDifference, Scheme};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -31,6 +32,12 @@ enum Command {
         /// Compare the tangent Jacobian with central differences per control block.
         #[arg(long)]
         jacobian: bool,
+        /// With --jacobian: a time (s) whose Jacobian rows to report; repeat for more (default: the final time).
+        #[arg(long = "at", value_name = "T", requires = "jacobian")]
+        at: Vec<f64>,
+        /// With --jacobian: write the Jacobian matrix here as CSV.
+        #[arg(long, value_name = "FILE", requires = "jacobian")]
+        csv: Option<PathBuf>,
     },
     /// Replay a keystroke script headless through the editor.
     Run {
@@ -106,7 +113,9 @@ fn real_main() -> Result<()> {
             scene,
             json,
             jacobian,
-        }) => check(&scene, json, jacobian),
+            at,
+            csv,
+        }) => check(&scene, json, jacobian.then_some((at, csv))),
         Some(Command::Run {
             scene,
             keys,
@@ -123,22 +132,37 @@ fn real_main() -> Result<()> {
     }
 }
 
-fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
+/// `nudge check`; `jacobian` holds `--at` and `--csv` when `--jacobian` is given.
+fn check(path: &Path, json: bool, jacobian: Option<(Vec<f64>, Option<PathBuf>)>) -> Result<()> {
     let out = &mut std::io::stdout().lock();
     let scene = load(path)?;
     let controls = Controls::new(&scene);
+    let times = match &jacobian {
+        Some((at, _)) => Some(nudge::check::matrix::times(at, scene.duration)?),
+        None => None,
+    };
     let start = Instant::now();
     let traj = simulate(&scene, &controls, &SimOptions::default())
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let elapsed = start.elapsed();
-    let checked = if jacobian && controls.m() > 0 {
+    let fd = if jacobian.is_some() && controls.m() > 0 {
         Some(
-            nudge::check::jacobian_check(&scene, &controls, &traj)
+            FiniteDifference::new(&scene, &controls, Scheme::Central)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
         )
     } else {
         None
     };
+    let checked = fd
+        .as_ref()
+        .map(|fd| nudge::check::compare(&scene, &controls, &traj, fd));
+    let matrix = times
+        .as_ref()
+        .map(|t| nudge::check::matrix::build(&scene, &controls, &traj, t, fd.as_ref()));
+    if let (Some(m), Some((_, Some(file)))) = (&matrix, &jacobian) {
+        std::fs::write(file, m.csv()).with_context(|| format!("writing {}", file.display()))?;
+    }
+    let jacobian = jacobian.is_some();
     let estimate = nudge::estimate::error_estimate(&scene, &controls, &traj);
     if json {
         let diagnostics: Vec<String> = match &estimate {
@@ -152,6 +176,9 @@ fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
             }
             if let Some(c) = &checked {
                 obj.insert("jacobian_check".into(), c.json());
+            }
+            if let Some(m) = &matrix {
+                obj.insert("jacobian".into(), m.json());
             }
         }
         writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
