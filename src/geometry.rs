@@ -11,6 +11,7 @@
 
 mod contact;
 mod feature;
+mod mesh;
 mod shapes;
 
 pub use contact::{
@@ -18,4 +19,5 @@ pub use contact::{
     near_points, part_contacts, part_near_points, point_parabola,
 };
 pub use feature::{ContactGeometry, FeaturePair, PatchCorner, PoseT, SideFeature};
+pub use mesh::Triangles;
 pub use shapes::{Geometry, GeometryError, MassProps, Part, PartKind};
