@@ -11,6 +11,7 @@ pub mod check;
 pub mod controls;
 pub mod edit;
 pub mod estimate;
+pub mod export;
 pub mod files;
 pub mod geometry;
 pub mod math;

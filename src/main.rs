@@ -58,6 +58,19 @@ enum Command {
         #[arg(long)]
         trace_svg: Option<PathBuf>,
     },
+    /// Write the motion as a file for other programs (binary glTF).
+    Export {
+        scene: PathBuf,
+        /// Write binary glTF 2.0 (.glb) here: meshes, and an animation sampled at --fps plus every collision.
+        #[arg(long, value_name = "OUT.glb")]
+        gltf: PathBuf,
+        /// Animation keys per second (collisions are keyed besides).
+        #[arg(long, default_value_t = nudge::export::DEFAULT_FPS)]
+        fps: f64,
+        /// Replay this keystroke script first and export the edited motion.
+        #[arg(long, value_name = "FILE")]
+        keys: Option<PathBuf>,
+    },
     /// Print what accuracy costs in time.
     Bench {
         /// A reduced run (under a minute).
@@ -124,6 +137,12 @@ fn real_main() -> Result<()> {
             size,
             trace_svg,
         }) => run(&scene, &keys, report, screen, &size, trace_svg),
+        Some(Command::Export {
+            scene,
+            gltf,
+            fps,
+            keys,
+        }) => export(&scene, &gltf, fps, keys.as_deref()),
         Some(Command::Bench { quick, csv, only }) => {
             let args = nudge::bench::BenchArgs { quick, csv, only };
             nudge::bench::run(&args, &mut std::io::stdout().lock())?;
@@ -227,6 +246,37 @@ fn parse_size(size: &str) -> Result<(u16, u16)> {
         bail!("--size must be at least 1x1, got {size}");
     }
     Ok((w, h))
+}
+
+/// Open `path` and replay the key script `keys` through the editor, as
+/// `nudge run` does.
+fn replay(path: &Path, keys: &Path) -> Result<Editor> {
+    let text = nudge::files::read_regular_text(keys, nudge::files::MAX_TEXT_BYTES)
+        .with_context(|| format!("reading the key script {}", keys.display()))?;
+    let parsed = nudge::script::parse_keys(&text, &keys.display().to_string())
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
+    // A replay is deterministic: settles stop by convergence, not the clock.
+    editor.set_wall_clock(false);
+    nudge::script::run_script(&mut editor, &parsed, (80, 24));
+    Ok(editor)
+}
+
+fn export(path: &Path, out: &Path, fps: f64, keys: Option<&Path>) -> Result<()> {
+    // The motion of the scene as loaded, or as the key script left it.
+    let scene = match keys {
+        Some(k) => replay(path, k)?.scene().clone(),
+        None => load(path)?,
+    };
+    let traj = simulate(
+        &scene,
+        &Controls::new(&scene),
+        &SimOptions::without_tangents(),
+    )
+    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let bytes = nudge::export::to_glb(&scene, &traj, fps)?;
+    std::fs::write(out, bytes).with_context(|| format!("writing {}", out.display()))?;
+    Ok(())
 }
 
 fn run(
