@@ -13,6 +13,7 @@ mod contact;
 mod feature;
 mod mesh;
 mod shapes;
+mod solid;
 
 pub use contact::{
     Contact, Corner, FlatFace, NearPoint, PartContacts, Placement, contact, flat_faces,
@@ -21,3 +22,4 @@ pub use contact::{
 pub use feature::{ContactGeometry, FeaturePair, PatchCorner, PoseT, SideFeature};
 pub use mesh::Triangles;
 pub use shapes::{Geometry, GeometryError, MassProps, Part, PartKind};
+pub use solid::{Decomposition, MAX_PIECES, MeshError};
