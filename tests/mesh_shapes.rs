@@ -88,8 +88,8 @@ fn scale_takes_the_file_to_metres() {
 
 /// A ball dropped onto the L's horizontal leg, 0.2 m from its corner: the
 /// hull fills the corner, so the ball lands on its slanted face, 0.3 m up;
-/// the decomposition follows the L, so the ball lands on the leg, 0.1 m
-/// up. The L's mass is its solid's either way.
+/// the decomposition follows the L, so the ball lands on the leg, about
+/// 0.1 m up. The L's mass is its solid's either way.
 #[test]
 fn a_decomposition_follows_a_hollow_the_hull_fills() {
     let text = |decomposition: &str| {
@@ -136,7 +136,13 @@ shape = {{ type = "mesh", file = "ell.obj", decomposition = "{decomposition}" }}
         "on the hull: {}",
         landed[0]
     );
-    assert!((landed[1] - 0.1).abs() < 1e-6, "on the leg: {}", landed[1]);
+    // The decomposition is approximate: it follows the corner to within
+    // about 2 % of the L's size (0.57 m).
+    assert!(
+        (0.1..0.12).contains(&landed[1]),
+        "on the leg: {}",
+        landed[1]
+    );
 }
 
 /// Saving keeps the mesh reference as written and adds no inertia: it

@@ -187,7 +187,9 @@ pub(super) fn build(t: &Table<'_, '_>) -> Result<Geometry, SceneError> {
             MeshError::NotClosed { .. } => "close the mesh's holes and face its triangles one way: its solid gives the body's mass",
             MeshError::Flat => "give a mesh of a solid with a thickness",
             MeshError::Overflow => "give a smaller scale",
-            MeshError::NoPieces => "use decomposition = \"hull\"",
+            MeshError::NoPieces | MeshError::TooManyPieces { .. } => {
+                "use decomposition = \"hull\", or a simpler mesh"
+            }
             MeshError::NonFinite { .. } | MeshError::BadIndex { .. } => "export the mesh again",
         };
         t.bad("file", &e.to_string(), fix)
