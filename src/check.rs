@@ -14,6 +14,8 @@ use crate::tangent::{ColumnKind, FiniteDifference, Scheme};
 use nalgebra::DMatrix;
 use serde_json::{Value, json};
 
+pub mod matrix;
+
 /// The state quantities a Jacobian row belongs to, in row order.
 pub const QUANTITIES: [&str; 4] = ["position", "orientation", "velocity", "angular_velocity"];
 
@@ -142,6 +144,17 @@ pub fn jacobian_check(
     traj: &Trajectory,
 ) -> Result<JacobianCheck, crate::sim::SimError> {
     let fd = FiniteDifference::new(scene, controls, Scheme::Central)?;
+    Ok(compare(scene, controls, traj, &fd))
+}
+
+/// As [`jacobian_check`] with the central differences already run (the
+/// Jacobian's data, [`matrix`], reuses them).
+pub fn compare(
+    scene: &Scene,
+    controls: &Controls,
+    traj: &Trajectory,
+    fd: &FiniteDifference,
+) -> JacobianCheck {
     let mut out = Vec::new();
     for (name, cols) in blocks(controls) {
         let refused = cols.iter().find_map(|&c| match &fd.columns[c] {
@@ -236,7 +249,7 @@ pub fn jacobian_check(
             ));
         }
     }
-    Ok(JacobianCheck { blocks: out, notes })
+    JacobianCheck { blocks: out, notes }
 }
 
 impl Figure {

@@ -11,11 +11,15 @@
 
 mod contact;
 mod feature;
+mod mesh;
 mod shapes;
+mod solid;
 
 pub use contact::{
     Contact, Corner, FlatFace, NearPoint, PartContacts, Placement, contact, flat_faces,
     near_points, part_contacts, part_near_points, point_parabola,
 };
 pub use feature::{ContactGeometry, FeaturePair, PatchCorner, PoseT, SideFeature};
+pub use mesh::Triangles;
 pub use shapes::{Geometry, GeometryError, MassProps, Part, PartKind};
+pub use solid::{Decomposition, MAX_PIECES, MeshError};

@@ -12,6 +12,7 @@ pub mod controls;
 pub mod edit;
 pub mod estimate;
 pub mod explore;
+pub mod export;
 pub mod files;
 pub mod geometry;
 pub mod math;

@@ -7,6 +7,7 @@ use nudge::edit::{Core, Editor};
 use nudge::explore::{ExploreOptions, Progress, Start};
 use nudge::scene::{self, Scene};
 use nudge::sim::{SimOptions, simulate};
+use nudge::tangent::{FiniteDifference, Scheme};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -32,6 +33,12 @@ enum Command {
         /// Compare the tangent Jacobian with central differences per control block.
         #[arg(long)]
         jacobian: bool,
+        /// With --jacobian: a time (s) whose Jacobian rows to report; repeat for more (default: the final time).
+        #[arg(long = "at", value_name = "T", requires = "jacobian")]
+        at: Vec<f64>,
+        /// With --jacobian: write the Jacobian matrix here as CSV.
+        #[arg(long, value_name = "FILE", requires = "jacobian")]
+        csv: Option<PathBuf>,
     },
     /// Replay a keystroke script headless through the editor.
     Run {
@@ -76,6 +83,19 @@ enum Command {
         /// Print the alternatives as one JSON object.
         #[arg(long)]
         json: bool,
+    },
+    /// Write the motion as a file for other programs (binary glTF).
+    Export {
+        scene: PathBuf,
+        /// Write binary glTF 2.0 (.glb) here: meshes, and an animation sampled at --fps plus every collision.
+        #[arg(long, value_name = "OUT.glb")]
+        gltf: PathBuf,
+        /// Animation keys per second (collisions are keyed besides).
+        #[arg(long, default_value_t = nudge::export::DEFAULT_FPS)]
+        fps: f64,
+        /// Replay this keystroke script first and export the edited motion.
+        #[arg(long, value_name = "FILE")]
+        keys: Option<PathBuf>,
     },
     /// Print what accuracy costs in time.
     Bench {
@@ -132,7 +152,9 @@ fn real_main() -> Result<()> {
             scene,
             json,
             jacobian,
-        }) => check(&scene, json, jacobian),
+            at,
+            csv,
+        }) => check(&scene, json, jacobian.then_some((at, csv))),
         Some(Command::Run {
             scene,
             keys,
@@ -152,6 +174,12 @@ fn real_main() -> Result<()> {
             seed,
             json,
         }) => explore(&scene, keys.as_deref(), samples, seed, json),
+        Some(Command::Export {
+            scene,
+            gltf,
+            fps,
+            keys,
+        }) => export(&scene, &gltf, fps, keys.as_deref()),
         Some(Command::Bench { quick, csv, only }) => {
             let args = nudge::bench::BenchArgs { quick, csv, only };
             nudge::bench::run(&args, &mut std::io::stdout().lock())?;
@@ -160,22 +188,37 @@ fn real_main() -> Result<()> {
     }
 }
 
-fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
+/// `nudge check`; `jacobian` holds `--at` and `--csv` when `--jacobian` is given.
+fn check(path: &Path, json: bool, jacobian: Option<(Vec<f64>, Option<PathBuf>)>) -> Result<()> {
     let out = &mut std::io::stdout().lock();
     let scene = load(path)?;
     let controls = Controls::new(&scene);
+    let times = match &jacobian {
+        Some((at, _)) => Some(nudge::check::matrix::times(at, scene.duration)?),
+        None => None,
+    };
     let start = Instant::now();
     let traj = simulate(&scene, &controls, &SimOptions::default())
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let elapsed = start.elapsed();
-    let checked = if jacobian && controls.m() > 0 {
+    let fd = if jacobian.is_some() && controls.m() > 0 {
         Some(
-            nudge::check::jacobian_check(&scene, &controls, &traj)
+            FiniteDifference::new(&scene, &controls, Scheme::Central)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
         )
     } else {
         None
     };
+    let checked = fd
+        .as_ref()
+        .map(|fd| nudge::check::compare(&scene, &controls, &traj, fd));
+    let matrix = times
+        .as_ref()
+        .map(|t| nudge::check::matrix::build(&scene, &controls, &traj, t, fd.as_ref()));
+    if let (Some(m), Some((_, Some(file)))) = (&matrix, &jacobian) {
+        std::fs::write(file, m.csv()).with_context(|| format!("writing {}", file.display()))?;
+    }
+    let jacobian = jacobian.is_some();
     let estimate = nudge::estimate::error_estimate(&scene, &controls, &traj);
     if json {
         let diagnostics: Vec<String> = match &estimate {
@@ -189,6 +232,9 @@ fn check(path: &Path, json: bool, jacobian: bool) -> Result<()> {
             }
             if let Some(c) = &checked {
                 obj.insert("jacobian_check".into(), c.json());
+            }
+            if let Some(m) = &matrix {
+                obj.insert("jacobian".into(), m.json());
             }
         }
         writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
@@ -246,13 +292,29 @@ fn read_keys(keys: &Path) -> Result<Vec<nudge::script::Step>> {
         .map_err(|e| anyhow::anyhow!("{e}"))
 }
 
-fn explore(path: &Path, keys: Option<&Path>, samples: usize, seed: u64, json: bool) -> Result<()> {
-    let parsed = keys.map(read_keys).transpose()?;
+/// Open `path` and replay the key script `keys` through the editor, as
+/// `nudge run` does; a command line that does not parse is an error.
+fn replay(path: &Path, keys: &Path) -> Result<Editor> {
+    let parsed = read_keys(keys)?;
     let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
+    // A replay is deterministic: settles stop by convergence, not the clock.
     editor.set_wall_clock(false);
-    if let Some(keys) = &parsed {
-        nudge::script::run_script(&mut editor, keys, (80, 24));
+    let result = nudge::script::run_script(&mut editor, &parsed, (80, 24));
+    if let Some(first) = result.failures.first() {
+        bail!("{}:{first}: the replay stopped there", keys.display());
     }
+    Ok(editor)
+}
+
+fn explore(path: &Path, keys: Option<&Path>, samples: usize, seed: u64, json: bool) -> Result<()> {
+    let editor = match keys {
+        Some(k) => replay(path, k)?,
+        None => {
+            let mut e = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
+            e.set_wall_clock(false);
+            e
+        }
+    };
     let opts = ExploreOptions {
         samples,
         seed,
@@ -266,6 +328,23 @@ fn explore(path: &Path, keys: Option<&Path>, samples: usize, seed: u64, json: bo
     } else {
         write!(out, "{}", nudge::explore::text(editor.scene(), &found))?;
     }
+    Ok(())
+}
+
+fn export(path: &Path, out: &Path, fps: f64, keys: Option<&Path>) -> Result<()> {
+    // The motion of the scene as loaded, or as the key script left it.
+    let scene = match keys {
+        Some(k) => replay(path, k)?.scene().clone(),
+        None => load(path)?,
+    };
+    let traj = simulate(
+        &scene,
+        &Controls::new(&scene),
+        &SimOptions::without_tangents(),
+    )
+    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let bytes = nudge::export::to_glb(&scene, &traj, fps)?;
+    std::fs::write(out, bytes).with_context(|| format!("writing {}", out.display()))?;
     Ok(())
 }
 

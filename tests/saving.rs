@@ -31,6 +31,16 @@ fn shipped() -> Vec<PathBuf> {
 #[test]
 fn a_bom_and_crlf_scene_saves_back_byte_for_byte() {
     let d = dir("roundtrip");
+    // Mesh shapes are found from the scene file's folder.
+    std::fs::create_dir_all(d.join("meshes")).expect("a folder");
+    for mesh in std::fs::read_dir("scenes/meshes").expect("scenes/meshes") {
+        let mesh = mesh.expect("entry").path();
+        std::fs::copy(
+            &mesh,
+            d.join("meshes").join(mesh.file_name().expect("name")),
+        )
+        .expect("copy");
+    }
     for path in shipped() {
         let plain = std::fs::read_to_string(&path).expect("readable");
         let crlf = plain.replace('\n', "\r\n");

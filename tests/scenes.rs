@@ -399,7 +399,16 @@ fn editor_edits_keep_every_comment_and_untouched_line_of_every_scene() {
     use nudge::edit::{Core, Edit, Editor};
     use nudge::scene::{Block, StateQuantity};
     let dir = std::env::temp_dir().join(format!("nudge-keep-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::create_dir_all(dir.join("meshes")).expect("temp dir");
+    // Mesh shapes are found from the scene file's folder.
+    for mesh in std::fs::read_dir("scenes/meshes").expect("scenes/meshes") {
+        let mesh = mesh.expect("entry").path();
+        std::fs::copy(
+            &mesh,
+            dir.join("meshes").join(mesh.file_name().expect("name")),
+        )
+        .expect("copy");
+    }
     for path in toml_files("scenes") {
         let what = path.display().to_string();
         let original = std::fs::read_to_string(&path).expect("readable");

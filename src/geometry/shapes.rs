@@ -87,6 +87,10 @@ pub struct MassProps {
 #[derive(Debug, Clone)]
 pub struct Geometry {
     pub parts: Vec<Part>,
+    /// Unit-density mass properties of a solid the parts only stand in
+    /// for in collisions (a mesh, collided as its hull or decomposition;
+    /// see `solid.rs`), in this frame. `None`: the parts are the solid.
+    pub(super) solid: Option<parry3d_f64::mass_properties::MassProperties>,
 }
 
 fn positive(what: &'static str, value: f64) -> Result<f64, GeometryError> {
@@ -118,7 +122,7 @@ fn to_point(v: &Vec3) -> Point3<f64> {
 }
 
 impl Part {
-    fn convex(vertices: Vec<Vec3>) -> Result<Part, GeometryError> {
+    pub(super) fn convex(vertices: Vec<Vec3>) -> Result<Part, GeometryError> {
         let count = vertices.len();
         if !spans_volume(&vertices) {
             return Err(GeometryError::DegenerateHull { count });
@@ -238,7 +242,25 @@ impl Part {
 
 impl Geometry {
     fn single(part: Part) -> Geometry {
-        Geometry { parts: vec![part] }
+        Geometry {
+            parts: vec![part],
+            solid: None,
+        }
+    }
+
+    /// Unit-density mass properties in this frame: the solid's, or the
+    /// parts' together.
+    pub(super) fn unit_mass(&self) -> parry3d_f64::mass_properties::MassProperties {
+        if let Some(solid) = self.solid {
+            return solid;
+        }
+        let mut total = parry3d_f64::mass_properties::MassProperties::default();
+        for p in &self.parts {
+            if let Some(shape) = &p.shape {
+                total += shape.mass_properties(1.0).transform_by(&p.offset);
+            }
+        }
+        total
     }
 
     /// A sphere of the given radius, m.
@@ -322,6 +344,13 @@ impl Geometry {
         if parts.is_empty() {
             return Err(GeometryError::EmptyCompound);
         }
+        // A part that stands for a solid keeps its solid's mass in the whole.
+        let solid = parts.iter().any(|(_, g)| g.solid.is_some()).then(|| {
+            parts
+                .iter()
+                .map(|(offset, g)| g.unit_mass().transform_by(offset))
+                .fold(Default::default(), |a, b| a + b)
+        });
         let mut out = Vec::new();
         for (offset, g) in parts {
             for mut p in g.parts {
@@ -329,7 +358,7 @@ impl Geometry {
                 out.push(p);
             }
         }
-        Ok(Geometry { parts: out })
+        Ok(Geometry { parts: out, solid })
     }
 
     /// The half-space below the plane through the origin with outward `normal`.
@@ -374,12 +403,22 @@ impl Geometry {
     /// Mass properties at uniform `density` (kg/m³). Requires a bounded geometry.
     pub fn mass_properties(&self, density: f64) -> Result<MassProps, GeometryError> {
         self.bounded()?;
-        let mut total = parry3d_f64::mass_properties::MassProperties::default();
-        for p in &self.parts {
-            if let Some(shape) = &p.shape {
-                total += shape.mass_properties(density).transform_by(&p.offset);
+        let total = match self.solid {
+            Some(unit) => parry3d_f64::mass_properties::MassProperties::with_inertia_matrix(
+                unit.local_com,
+                unit.mass() * density,
+                unit.reconstruct_inertia_matrix() * density,
+            ),
+            None => {
+                let mut total = parry3d_f64::mass_properties::MassProperties::default();
+                for p in &self.parts {
+                    if let Some(shape) = &p.shape {
+                        total += shape.mass_properties(density).transform_by(&p.offset);
+                    }
+                }
+                total
             }
-        }
+        };
         Ok(MassProps {
             mass: total.mass(),
             com: total.local_com.coords,
@@ -391,6 +430,9 @@ impl Geometry {
     /// the current frame): every part is translated by `−origin`.
     pub fn recentered(&self, origin: &Vec3) -> Geometry {
         let shift = Translation3::from(-origin);
+        let solid = self
+            .solid
+            .map(|s| s.transform_by(&Isometry3::from_parts(shift, UnitQuaternion::identity())));
         let parts = self
             .parts
             .iter()
@@ -399,7 +441,7 @@ impl Geometry {
                 ..p.clone()
             })
             .collect();
-        Geometry { parts }
+        Geometry { parts, solid }
     }
 
     /// Distance from the frame origin to the farthest point (infinite if unbounded).

@@ -18,6 +18,7 @@ mod body;
 mod constraint;
 mod in_place;
 mod inertia;
+mod mesh;
 mod read;
 mod saved;
 mod shape;

@@ -182,6 +182,17 @@ fn implied_inertia(shape_source: &Value, mass: f64) -> Option<(Vec3, UnitQuatern
     Some(implied(&unit, mass))
 }
 
+/// Whether a shape (or a part of it, however deep) is a mesh file.
+fn names_a_mesh(shape: &Value) -> bool {
+    match shape {
+        Value::Table(t) => {
+            t.get("type").and_then(Value::as_str) == Some("mesh") || t.values().any(names_a_mesh)
+        }
+        Value::Array(a) => a.iter().any(names_a_mesh),
+        _ => false,
+    }
+}
+
 fn same_inertia(a: &(Vec3, UnitQuaternion<f64>), b: &Body) -> bool {
     a.0.iter().zip(b.inertia.iter()).all(|(x, y)| same(*x, *y))
         && a.1
@@ -197,7 +208,16 @@ fn body(b: &Body) -> Section {
     s.put("shape", b.shape_source.clone());
     s.put("mass", float(b.mass));
     let derived = (!b.inertia_given)
-        .then(|| implied_inertia(&b.shape_source, b.mass))
+        .then(|| {
+            if names_a_mesh(&b.shape_source) {
+                // A mesh file is named relative to the scene file, which
+                // this text has no folder for: the body's geometry was
+                // built from it (recentring keeps its unit inertia).
+                unit_props(&b.geometry).ok().map(|u| implied(&u, b.mass))
+            } else {
+                implied_inertia(&b.shape_source, b.mass)
+            }
+        })
         .flatten();
     if !derived.is_some_and(|d| same_inertia(&d, b)) {
         s.put("inertia", vec3(&b.inertia));

@@ -15,14 +15,23 @@ const MAX_CURVATURE: f64 = 1e6;
 pub(super) const MAX_NESTING: usize = 8;
 
 /// Shape types a body may have (bounded ones).
-pub(super) const BODY_TYPES: [&str; 6] = ["sphere", "box", "ellipsoid", "egg", "hull", "compound"];
-/// Shape types an obstacle may have.
-pub(super) const OBSTACLE_TYPES: [&str; 8] = [
+pub(super) const BODY_TYPES: [&str; 7] = [
     "sphere",
     "box",
     "ellipsoid",
     "egg",
     "hull",
+    "mesh",
+    "compound",
+];
+/// Shape types an obstacle may have.
+pub(super) const OBSTACLE_TYPES: [&str; 9] = [
+    "sphere",
+    "box",
+    "ellipsoid",
+    "egg",
+    "hull",
+    "mesh",
     "compound",
     "plane",
     "parabola",
@@ -204,6 +213,7 @@ pub(super) fn build(
             Ok(Geometry::convex_hull(&points)
                 .map_err(|_| t.bad("points", "does not enclose a volume", hint))?)
         }
+        "mesh" => return super::mesh::build(&t),
         "compound" => {
             if depth > MAX_NESTING {
                 return Err(t.bad(
