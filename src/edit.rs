@@ -4,7 +4,7 @@
 mod editor;
 mod note;
 
-pub use editor::{Editor, MAX_SETTLE_UPDATES};
+pub use editor::{Editor, MAX_SETTLE_UPDATES, paths_of};
 pub use note::{BlockedBy, Note};
 
 pub use crate::files::WriteMode;
@@ -219,6 +219,16 @@ pub trait Core {
     /// be said.
     fn sensitivity(&self) -> Result<crate::view::Sensitivity, String> {
         Err("this core computes no Jacobians".into())
+    }
+    /// Write the motion as binary glTF to `path` at `fps` keys per second
+    /// (and at every collision). Returns the bytes written.
+    fn export_gltf(&self, _path: &Path, _fps: f64) -> Result<usize, EditError> {
+        Err(EditError::Invalid("this core cannot export".into()))
+    }
+    /// Where exploring starts from (the scene, its controls, constraints
+    /// and a blocked drag's goal), if this core can explore.
+    fn explore_start(&self) -> Option<crate::explore::Start> {
+        None
     }
     /// Work deferred from the last edits (the integration error estimate
     /// after a drag), done while the user pauses. Returns whether the view

@@ -411,3 +411,53 @@ fn the_cli_explores_after_the_keys_and_refuses_bad_input() {
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(err.contains("reading the key script"), "{err}");
 }
+
+/// From the editor's keys: `X` after the blocked drag explores (the replay
+/// waits for the background thread), the alternatives are listed one at a
+/// time, Enter takes the one shown as an undoable edit and `u` undoes it.
+#[test]
+fn the_editor_explores_in_the_background_and_takes_an_alternative() {
+    let blocked =
+        std::fs::read_to_string(root().join("tests/fixtures/explore/polygon-blocked.keys"))
+            .expect("fixture");
+    let path = root().join("scenes/particle-polygon.toml");
+    let mut editor = Editor::open(&path).expect("scene opens");
+    editor.set_wall_clock(false);
+    let keys =
+        parse_keys(&format!("{blocked}\n:explore 512<Enter>"), "explore.keys").expect("keys");
+    let r = run_script(&mut editor, &keys, (100, 30));
+    assert!(
+        r.screen.contains("X explores") || r.screen.contains("alternative 1/"),
+        "{}",
+        r.screen
+    );
+    let last = r.screen.lines().last().unwrap_or_default();
+    assert!(last.contains("alternative 1/"), "{}", r.screen);
+    let before = controls(&editor);
+    // Same script, then the second alternative is taken and undone.
+    let mut editor = Editor::open(&path).expect("scene opens");
+    editor.set_wall_clock(false);
+    let keys = parse_keys(
+        &format!("{blocked}\n:explore 512<Enter> j <Enter>"),
+        "explore.keys",
+    )
+    .expect("keys");
+    let r = run_script(&mut editor, &keys, (100, 30));
+    assert!(r.screen.contains("took alternative 2"), "{}", r.screen);
+    let taken = controls(&editor);
+    assert_ne!(taken, before);
+    editor.apply(Edit::Undo).expect("undo");
+    assert_eq!(controls(&editor), before);
+    // Esc dismisses without changing anything.
+    let mut editor = Editor::open(&path).expect("scene opens");
+    editor.set_wall_clock(false);
+    let keys = parse_keys(
+        &format!("{blocked}\n:explore 512<Enter> <Esc>"),
+        "explore.keys",
+    )
+    .expect("keys");
+    let r = run_script(&mut editor, &keys, (100, 30));
+    assert!(r.screen.contains("alternatives dismissed"), "{}", r.screen);
+    assert_eq!(controls(&editor), before);
+    assert!(!r.quit);
+}

@@ -288,3 +288,21 @@ fn a_frame_rate_out_of_range_is_refused() {
         assert!(!file.exists());
     }
 }
+
+/// `:export` in the editor writes the motion it shows (here after a nudge)
+/// as a glTF file that reads back, and says where.
+#[test]
+fn the_editor_exports_what_it_shows() {
+    let dir = std::env::temp_dir().join(format!("nudge-export-editor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let out = dir.join("edited ball.glb");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bounce.toml");
+    let mut editor = nudge::edit::Editor::open(&path).expect("opens");
+    let script = format!("]]]]] lll :export {}<Enter>", out.display());
+    let keys = nudge::script::parse_keys(&script, "export.keys").expect("keys");
+    let r = nudge::script::run_script(&mut editor, &keys, (120, 30));
+    assert!(r.screen.contains("bytes of glTF"), "{}", r.screen);
+    let (doc, _) = read(&out);
+    assert_eq!(doc.animations().count(), 1);
+    assert!(doc.nodes().any(|n| n.name() == Some("ball")));
+}

@@ -86,6 +86,22 @@ pub struct Editor {
     pending_drag: Option<Constraint>,
 }
 
+/// Every traced point's path on `traj`, as the screen draws it.
+pub fn paths_of(scene: &Scene, traj: &Trajectory) -> Vec<view::Path> {
+    let mut paths = Vec::new();
+    for (i, b) in scene.bodies.iter().enumerate() {
+        for p in &b.traced {
+            let (times, points) = traj.path(i, p, 240).into_iter().unzip();
+            paths.push(view::Path {
+                body: i,
+                points,
+                times,
+            });
+        }
+    }
+    paths
+}
+
 fn invalid(msg: impl Into<String>) -> EditError {
     EditError::Invalid(msg.into())
 }
@@ -310,18 +326,7 @@ impl Editor {
     }
 
     fn refresh_geometry(&mut self) {
-        let mut paths = Vec::new();
-        for (i, b) in self.scene.bodies.iter().enumerate() {
-            for p in &b.traced {
-                let (times, points) = self.traj.path(i, p, 240).into_iter().unzip();
-                paths.push(view::Path {
-                    body: i,
-                    points,
-                    times,
-                });
-            }
-        }
-        self.paths = paths;
+        self.paths = paths_of(&self.scene, &self.traj);
         let extent = self.extent();
         self.obstacle_lines = self
             .scene

@@ -139,6 +139,9 @@ pub fn run_script_with<S: Copy + Into<Step>>(
             Event::Resize(w, h) => app.resize(Rect::new(0, 0, w, h), &core.view()),
             Event::Other => {}
         }
+        // A replay does not depend on timing: an exploration the key
+        // started is waited for here.
+        app.wait_background();
         let failed = app.take_command_error().map(|error| ScriptFailure {
             line: step.line,
             col: step.col,

@@ -26,7 +26,10 @@ use ratatui::layout::Rect;
 use std::time::Instant;
 
 mod commands;
+mod explore;
 mod mouse;
+
+pub use explore::Exploring;
 
 /// Where keys go.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -59,6 +62,9 @@ pub struct Message {
     pub text: String,
     pub level: Level,
 }
+
+/// Worlds `X` explores (`:explore N` for another number).
+pub const EXPLORE_SAMPLES: usize = 2048;
 
 /// Messages kept for `:messages` (the oldest go first).
 const LOG_LIMIT: usize = 1000;
@@ -112,6 +118,8 @@ pub struct App {
     log: Vec<Message>,
     /// The cell where the current mouse drag was last seen.
     drag: Option<(u16, u16)>,
+    /// An exploration running in the background, or its alternatives.
+    exploring: Exploring,
     /// The Jacobian columns shown by the open `:jacobian` popup.
     sensitivity: Option<Result<crate::view::Sensitivity, String>>,
     /// The last command line that did not parse, until taken.
@@ -162,6 +170,7 @@ impl App {
             drag: None,
             command_error: None,
             sensitivity: None,
+            exploring: Exploring::Idle,
             pending: None,
             rk4_step: accuracy.window(),
             tolerance: 1e-9,
@@ -183,6 +192,9 @@ impl App {
     /// Which key-map context keys go to.
     pub fn context(&self) -> Context {
         match self.input {
+            Input::Normal if matches!(self.exploring, Exploring::Browsing { .. }) => {
+                Context::Explore
+            }
             Input::Normal => Context::Normal,
             Input::Block => Context::Block,
             Input::Command(_) => Context::Command,
@@ -274,6 +286,10 @@ impl App {
                     format!("{key} is not a block; b then p o v w m i"),
                 );
             }
+            Context::Explore => self.say(
+                Level::Warning,
+                format!("{key} does nothing here: j/k other alternatives, Enter takes one, Esc dismisses"),
+            ),
             Context::Help | Context::Prompt => {}
         }
     }
@@ -385,9 +401,15 @@ impl App {
                 self.set_block(core, view.selected, block, free);
             }
             Action::Cancel => {
+                if self.input == Input::Normal {
+                    self.cancel_exploring();
+                }
                 self.input = Input::Normal;
                 self.drag = None;
             }
+            Action::Explore => self.explore(core, EXPLORE_SAMPLES),
+            Action::Alternative(sense) => self.step_alternative(sense),
+            Action::AcceptAlternative => self.accept_alternative(core),
             Action::ToggleGhost => {
                 self.show_ghost = !self.show_ghost;
                 let shown = if self.show_ghost { "shown" } else { "hidden" };
@@ -547,7 +569,17 @@ impl App {
             Ok(outcome) => {
                 self.edits += 1;
                 if !outcome.notes.is_empty() {
-                    let text: Vec<String> = outcome.notes.iter().map(ToString::to_string).collect();
+                    let mut text: Vec<String> =
+                        outcome.notes.iter().map(ToString::to_string).collect();
+                    let blocked = outcome.notes.iter().any(|n| {
+                        matches!(
+                            n,
+                            crate::edit::Note::Solver(crate::solve::Diagnostic::Blocked)
+                        )
+                    });
+                    if blocked {
+                        text.push("X explores further afield".into());
+                    }
                     self.say(Level::Warning, text.join("; "));
                 }
                 Some(outcome)

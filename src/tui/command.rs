@@ -89,6 +89,10 @@ pub enum Command {
     Notes,
     /// `:jacobian`: how each free control moves the body now.
     Jacobian,
+    /// `:explore [N]`: sample N worlds in the background.
+    Explore(usize),
+    /// `:export PATH.glb`: the motion as binary glTF.
+    Export(PathBuf),
     /// `:set mouse on|off`.
     SetMouse(bool),
     /// `:speed OTHER`: equal speed with another body.

@@ -21,16 +21,19 @@ pub enum Context {
     Help,
     /// Quitting with unsaved edits: asking whether to discard them.
     Prompt,
+    /// Browsing the alternatives an exploration found.
+    Explore,
 }
 
 impl Context {
     /// Every context, in the order the help lists them.
-    pub const ALL: [Context; 5] = [
+    pub const ALL: [Context; 6] = [
         Context::Normal,
         Context::Block,
         Context::Command,
         Context::Help,
         Context::Prompt,
+        Context::Explore,
     ];
 
     /// Heading in the help popup and the README.
@@ -41,6 +44,7 @@ impl Context {
             Context::Command => "command line (:)",
             Context::Help => "popups (?, M, I, :notes)",
             Context::Prompt => "quit prompt (unsaved edits)",
+            Context::Explore => "alternatives (after X or :explore)",
         }
     }
 }
@@ -155,6 +159,12 @@ pub enum Action {
     Scroll(Sense),
     /// Show or hide the motion before the last edit.
     ToggleGhost,
+    /// Explore alternatives around the motion in the background.
+    Explore,
+    /// Show the next or previous alternative.
+    Alternative(Sense),
+    /// Take the alternative shown.
+    AcceptAlternative,
     /// Quit (asks first when there are unsaved edits).
     Quit,
     /// Quit and discard unsaved edits (from the prompt).
@@ -221,6 +231,9 @@ impl Action {
             Action::Popup(_) => "Popup",
             Action::Scroll(_) => "Scroll",
             Action::ToggleGhost => "ToggleGhost",
+            Action::Explore => "Explore",
+            Action::Alternative(_) => "Alternative",
+            Action::AcceptAlternative => "AcceptAlternative",
             Action::Quit => "Quit",
             Action::ConfirmQuit => "ConfirmQuit",
             Action::SaveQuit => "SaveQuit",
@@ -266,6 +279,9 @@ impl Action {
             Action::Popup(PopupKind::Help),
             Action::Scroll(Sense::Back),
             Action::ToggleGhost,
+            Action::Explore,
+            Action::Alternative(Sense::Back),
+            Action::AcceptAlternative,
             Action::Quit,
             Action::ConfirmQuit,
             Action::SaveQuit,
@@ -320,7 +336,9 @@ const fn code(c: KeyCode) -> Key {
     Key::new(c)
 }
 
-use Context::{Block as Blk, Command as Cmd, Help as Hlp, Normal as Nrm, Prompt as Prm};
+use Context::{
+    Block as Blk, Command as Cmd, Explore as Exp, Help as Hlp, Normal as Nrm, Prompt as Prm,
+};
 
 const fn nudge(dir: Dir, big: bool) -> Action {
     Action::Nudge { dir, big }
@@ -406,6 +424,7 @@ pub static KEYMAP: &[Binding] = &[
     bind(ch('_'), Nrm, Action::Zoom(Sense::Back), "zoom out"),
     bind(ch('0'), Nrm, Action::ResetView, "fit the scene, reset the orbit"),
     bind(ch('g'), Nrm, Action::ToggleGhost, "show/hide the motion before the last edit"),
+    bind(ch('X'), Nrm, Action::Explore, "explore alternatives when a drag is blocked"),
     // The rest.
     bind(ch(':'), Nrm, Action::CommandLine, "command line (:help lists commands)"),
     hint(ch('?'), Nrm, Action::Popup(PopupKind::Help), "this help", "help"),
@@ -441,6 +460,13 @@ pub static KEYMAP: &[Binding] = &[
     hint(ch('w'), Prm, Action::SaveQuit, "save, then quit", "save"),
     hint(ch('n'), Prm, Action::Cancel, "keep editing", "cancel"),
     bind(code(KeyCode::Esc), Prm, Action::Cancel, "keep editing"),
+    // Browsing alternatives.
+    hint(ch('j'), Exp, Action::Alternative(Sense::Forward), "next alternative", "others"),
+    hint(ch('k'), Exp, Action::Alternative(Sense::Back), "previous alternative", "others"),
+    bind(code(KeyCode::Tab), Exp, Action::Alternative(Sense::Forward), "next alternative"),
+    bind(code(KeyCode::Tab).shift(), Exp, Action::Alternative(Sense::Back), "previous alternative"),
+    hint(code(KeyCode::Enter), Exp, Action::AcceptAlternative, "take the alternative shown (u undoes)", "take"),
+    hint(code(KeyCode::Esc), Exp, Action::Cancel, "dismiss the alternatives", "dismiss"),
 ];
 
 /// The action bound to `key` in `context`.
@@ -639,6 +665,7 @@ mod tests {
             Context::Command,
             Context::Help,
             Context::Prompt,
+            Context::Explore,
         ] {
             assert_eq!(
                 lookup(context, Key::new(KeyCode::Esc)),

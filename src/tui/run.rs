@@ -89,6 +89,8 @@ impl EventSource for TerminalEvents {
 const FRAME: Duration = Duration::from_millis(33);
 /// How long to wait for input when idle (the loop just redraws after it).
 const IDLE: Duration = Duration::from_millis(500);
+/// How often a background exploration's progress is looked at.
+const EXPLORE_POLL: Duration = Duration::from_millis(100);
 /// Longest time spent draining a burst of events before redrawing.
 const DRAIN_BUDGET: Duration = Duration::from_millis(30);
 
@@ -163,6 +165,9 @@ pub fn event_loop<B: Backend, C: Core, E: EventSource>(
         }
         let timeout = if app.playing {
             FRAME.saturating_sub(last_tick.elapsed())
+        } else if app.exploring() {
+            // Progress of the background exploration on the status line.
+            EXPLORE_POLL
         } else {
             IDLE
         };
@@ -181,6 +186,7 @@ pub fn event_loop<B: Backend, C: Core, E: EventSource>(
             }
         }
         app.flush(core);
+        app.poll_background();
         let dt = last_tick.elapsed().as_secs_f64();
         last_tick = Instant::now();
         app.tick(core, dt);

@@ -77,6 +77,11 @@ impl Theme {
         self.paint(Color::DarkGray)
     }
 
+    /// An explored alternative's traces.
+    pub fn alternative(self) -> Color {
+        self.paint(Color::LightMagenta)
+    }
+
     /// Constraint targets on the plot.
     pub fn target(self) -> Style {
         self.fg(Color::LightMagenta).add_modifier(Modifier::BOLD)

@@ -52,6 +52,7 @@ impl Widget for &Screen<'_> {
             theme,
             playing: app.playing,
             show_ghost: app.show_ghost,
+            alternative: app.alternative().map(|(a, ..)| a.paths.as_slice()),
         }
         .render(a.canvas, buf);
         let [readout, controls, constraints] = layout::side(a.side, view.constraints.len());

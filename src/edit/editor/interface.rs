@@ -121,6 +121,18 @@ impl Core for Editor {
         self.revision != self.saved_revision
     }
 
+    fn export_gltf(&self, path: &Path, fps: f64) -> Result<usize, EditError> {
+        let bytes = crate::export::to_glb(&self.scene, &self.traj, fps)
+            .map_err(|e| EditError::Save(e.to_string()))?;
+        std::fs::write(path, &bytes)
+            .map_err(|e| EditError::Save(format!("{}: {e}", path.display())))?;
+        Ok(bytes.len())
+    }
+
+    fn explore_start(&self) -> Option<crate::explore::Start> {
+        Some(crate::explore::Start::from_editor(self))
+    }
+
     fn idle(&mut self) -> bool {
         if !self.estimate_due {
             return false;

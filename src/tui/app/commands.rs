@@ -368,6 +368,18 @@ impl App {
             }
             Command::Messages => self.open(PopupKind::Messages),
             Command::Notes => self.open(PopupKind::Notes),
+            Command::Explore(n) => self.explore(core, n),
+            Command::Export(path) => match core.export_gltf(&path, crate::export::DEFAULT_FPS) {
+                Ok(bytes) => self.say(
+                    Level::Info,
+                    format!(
+                        "wrote {} ({bytes} bytes of glTF, y up, {} keys/s and every collision)",
+                        path.display(),
+                        crate::export::DEFAULT_FPS
+                    ),
+                ),
+                Err(e) => self.say(Level::Error, e.to_string()),
+            },
             Command::Jacobian => self.handle_action(core, Action::Popup(PopupKind::Jacobian)),
             Command::SetMouse(on) => {
                 self.mouse = on;

@@ -172,6 +172,37 @@ pub const COMMANDS: &[CommandSpec] = &[
         parse: |w, _, _| w.no_more(1).map(|()| Command::Jacobian),
     },
     CommandSpec {
+        names: &["explore"],
+        usage: &[(
+            ":explore [n]",
+            "sample n worlds (2048) for alternatives (X)",
+        )],
+        parse: |w, _, _| {
+            let n = match w.get(1) {
+                None => crate::tui::app::EXPLORE_SAMPLES,
+                Some(_) => match w.index(1, "number of worlds")? {
+                    n @ 1..=MAX_EXPLORE => n,
+                    _ => {
+                        return Err(w.err(
+                            1,
+                            format!("expected a number of worlds from 1 to {MAX_EXPLORE}"),
+                        ));
+                    }
+                },
+            };
+            w.no_more(2)?;
+            Ok(Command::Explore(n))
+        },
+    },
+    CommandSpec {
+        names: &["export"],
+        usage: &[(":export out.glb", "the motion as glTF (y up) for Blender")],
+        parse: |w, _, rest| match path(rest) {
+            Some(p) => Ok(Command::Export(p)),
+            None => Err(w.err(0, "missing file: e.g. :export motion.glb")),
+        },
+    },
+    CommandSpec {
         names: &["notes"],
         usage: &[(":notes", "the scene's notes in full")],
         parse: |w, _, _| w.no_more(1).map(|()| Command::Notes),
@@ -282,6 +313,9 @@ pub const COMMANDS: &[CommandSpec] = &[
         parse: |w, _, _| w.no_more(1).map(|()| Command::Help),
     },
 ];
+
+/// Most worlds `:explore` samples.
+const MAX_EXPLORE: usize = 1_000_000;
 
 /// What the command arguments may be, for the help and the README.
 pub const COMMAND_NOTES: &[&str] = &[

@@ -23,6 +23,8 @@ pub struct SceneCanvas<'a> {
     pub playing: bool,
     /// Whether to draw the motion before the last edit.
     pub show_ghost: bool,
+    /// The traces of the alternative being shown, if any.
+    pub alternative: Option<&'a [crate::view::Path]>,
 }
 
 type Segment = (f64, f64, f64, f64);
@@ -131,6 +133,15 @@ impl Widget for SceneCanvas<'_> {
         } else {
             Vec::new()
         };
+        // An explored alternative: every sample as a dot (denser than
+        // the ghost), in the target colour.
+        let alternative: Vec<(f64, f64)> = self
+            .alternative
+            .unwrap_or_default()
+            .iter()
+            .flat_map(|p| p.points.iter())
+            .filter_map(|p| self.camera.project(p))
+            .collect();
         let targets: Vec<(f64, f64)> = self
             .view
             .targets
@@ -155,6 +166,13 @@ impl Widget for SceneCanvas<'_> {
                     ctx.draw(&Points {
                         coords: &ghost,
                         color: theme.ghost(),
+                    });
+                    ctx.layer();
+                }
+                if !alternative.is_empty() {
+                    ctx.draw(&Points {
+                        coords: &alternative,
+                        color: theme.alternative(),
                     });
                     ctx.layer();
                 }
@@ -258,6 +276,7 @@ mod tests {
             theme: Theme::PLAIN,
             playing: false,
             show_ghost: true,
+            alternative: None,
         }
         .render(buf.area, &mut buf);
         let text = buffer_text(&buf);
@@ -279,6 +298,7 @@ mod tests {
                 theme: Theme::COLOR,
                 playing: true,
                 show_ghost: true,
+                alternative: None,
             }
             .render(buf.area, &mut buf);
         }
@@ -307,6 +327,7 @@ mod tests {
             theme: Theme::COLOR,
             playing: false,
             show_ghost: true,
+            alternative: None,
         }
         .render(buf.area, &mut buf);
         let text = buffer_text(&buf);

@@ -197,7 +197,7 @@ impl Widget for &BottomLine<'_> {
                             ])
                         }
                     }
-                    None => self.hints(Context::Normal, "", width),
+                    None => self.hints(app.context(), "", width),
                 }
             }
         };
