@@ -161,7 +161,7 @@ impl Core for Editor {
             .traj
             .jacobian(self.selected, self.time, Side::Post)
             .map_err(|e| format!("no Jacobian for {} at this time: {e}", body.name))?;
-        let rows = self
+        let mut rows: Vec<view::SensitivityRow> = self
             .controls
             .free
             .iter()
@@ -172,6 +172,13 @@ impl Core for Editor {
                 orientation: Vec3::new(j[(3, col)], j[(4, col)], j[(5, col)]),
             })
             .collect();
+        // The controls that move the body at all first, the body's own
+        // before the others' (a stable sort keeps the panel's order).
+        let own = format!("{}.", body.name);
+        rows.sort_by_key(|r| {
+            let still = r.position.norm() == 0.0 && r.orientation.norm() == 0.0;
+            (still, !r.control.starts_with(&own))
+        });
         Ok(view::Sensitivity {
             body: body.name.clone(),
             t: self.time,
