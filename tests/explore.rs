@@ -461,3 +461,32 @@ fn the_editor_explores_in_the_background_and_takes_an_alternative() {
     assert_eq!(controls(&editor), before);
     assert!(!r.quit);
 }
+
+/// While alternatives are shown, the editing keys they do not rebind still
+/// work: `:` opens the command line (Enter runs it, not "take"), and an
+/// edit of the motion dismisses them.
+#[test]
+fn browsing_alternatives_keeps_the_command_line_and_an_edit_dismisses_them() {
+    let blocked =
+        std::fs::read_to_string(root().join("tests/fixtures/explore/polygon-blocked.keys"))
+            .expect("fixture");
+    let path = root().join("scenes/particle-polygon.toml");
+    let mut editor = Editor::open(&path).expect("scene opens");
+    editor.set_wall_clock(false);
+    let before = {
+        let keys = parse_keys(&blocked, "b.keys").expect("keys");
+        run_script(&mut editor, &keys, (100, 30));
+        controls(&editor)
+    };
+    let keys = parse_keys(":explore 256<Enter> :messages<Enter>", "e.keys").expect("keys");
+    let r = run_script(&mut editor, &keys, (100, 30));
+    assert!(r.screen.contains("messages: j/k scroll"), "{}", r.screen);
+    assert_eq!(
+        controls(&editor),
+        before,
+        "Enter ran :messages, took nothing"
+    );
+    let keys = parse_keys("<Esc> :explore 256<Enter> P l", "e.keys").expect("keys");
+    let r = run_script(&mut editor, &keys, (100, 30));
+    assert!(!r.screen.contains("alternative 1/"), "{}", r.screen);
+}

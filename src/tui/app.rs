@@ -262,7 +262,14 @@ impl App {
                 return;
             }
         }
-        if let Some(action) = keymap::lookup(context, key) {
+        // Browsing alternatives keeps the editing keys it does not rebind
+        // (time, views, the command line...).
+        let action = keymap::lookup(context, key).or_else(|| {
+            (context == Context::Explore)
+                .then(|| keymap::lookup(Context::Normal, key))
+                .flatten()
+        });
+        if let Some(action) = action {
             self.handle_action(core, action);
             return;
         }
@@ -562,6 +569,14 @@ impl App {
 
     /// Apply an edit, timing it; report errors and diagnostics.
     fn apply(&mut self, core: &mut impl Core, edit: Edit) -> Option<Outcome> {
+        // Alternatives explored from a motion no longer apply once it changes.
+        let changes_motion = !matches!(
+            edit,
+            Edit::SelectBody(_) | Edit::SelectTime(_) | Edit::SelectEvent(_)
+        );
+        if changes_motion && matches!(self.exploring, Exploring::Browsing { .. }) {
+            self.exploring = Exploring::Idle;
+        }
         let start = Instant::now();
         let result = core.apply(edit);
         self.apply_ms.push(start.elapsed().as_secs_f64() * 1e3);

@@ -44,7 +44,7 @@ impl Context {
             Context::Command => "command line (:)",
             Context::Help => "popups (?, M, I, :notes)",
             Context::Prompt => "quit prompt (unsaved edits)",
-            Context::Explore => "alternatives (after X or :explore)",
+            Context::Explore => "alternatives (after X or :explore; other keys as editing)",
         }
     }
 }
