@@ -412,6 +412,18 @@ fn the_cli_explores_after_the_keys_and_refuses_bad_input() {
     assert!(err.contains("reading the key script"), "{err}");
 }
 
+/// The blocked-drag key script of the polygonal hill and a fresh editor
+/// on its scene.
+fn polygon() -> (String, Editor) {
+    let blocked =
+        std::fs::read_to_string(root().join("tests/fixtures/explore/polygon-blocked.keys"))
+            .expect("fixture");
+    let mut editor =
+        Editor::open(&root().join("scenes/particle-polygon.toml")).expect("scene opens");
+    editor.set_wall_clock(false);
+    (blocked, editor)
+}
+
 /// From the editor's keys: `X` after the blocked drag explores (the replay
 /// waits for the background thread), the alternatives are listed one at a
 /// time, Enter takes the one shown as an undoable edit and `u` undoes it.
@@ -421,8 +433,7 @@ fn the_editor_explores_in_the_background_and_takes_an_alternative() {
         std::fs::read_to_string(root().join("tests/fixtures/explore/polygon-blocked.keys"))
             .expect("fixture");
     let path = root().join("scenes/particle-polygon.toml");
-    let mut editor = Editor::open(&path).expect("scene opens");
-    editor.set_wall_clock(false);
+    let mut editor = polygon().1;
     let keys =
         parse_keys(&format!("{blocked}\n:explore 512<Enter>"), "explore.keys").expect("keys");
     let r = run_script(&mut editor, &keys, (100, 30));
@@ -435,8 +446,7 @@ fn the_editor_explores_in_the_background_and_takes_an_alternative() {
     assert!(last.contains("alternative 1/"), "{}", r.screen);
     let before = controls(&editor);
     // Same script, then the second alternative is taken and undone.
-    let mut editor = Editor::open(&path).expect("scene opens");
-    editor.set_wall_clock(false);
+    let mut editor = polygon().1;
     let keys = parse_keys(
         &format!("{blocked}\n:explore 512<Enter> j <Enter>"),
         "explore.keys",
@@ -449,8 +459,7 @@ fn the_editor_explores_in_the_background_and_takes_an_alternative() {
     editor.apply(Edit::Undo).expect("undo");
     assert_eq!(controls(&editor), before);
     // Esc dismisses without changing anything.
-    let mut editor = Editor::open(&path).expect("scene opens");
-    editor.set_wall_clock(false);
+    let mut editor = polygon().1;
     let keys = parse_keys(
         &format!("{blocked}\n:explore 512<Enter> <Esc>"),
         "explore.keys",
@@ -471,8 +480,7 @@ fn browsing_alternatives_keeps_the_command_line_and_an_edit_dismisses_them() {
         std::fs::read_to_string(root().join("tests/fixtures/explore/polygon-blocked.keys"))
             .expect("fixture");
     let path = root().join("scenes/particle-polygon.toml");
-    let mut editor = Editor::open(&path).expect("scene opens");
-    editor.set_wall_clock(false);
+    let mut editor = polygon().1;
     let before = {
         let keys = parse_keys(&blocked, "b.keys").expect("keys");
         run_script(&mut editor, &keys, (100, 30));
