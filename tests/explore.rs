@@ -432,7 +432,6 @@ fn the_editor_explores_in_the_background_and_takes_an_alternative() {
     let blocked =
         std::fs::read_to_string(root().join("tests/fixtures/explore/polygon-blocked.keys"))
             .expect("fixture");
-    let path = root().join("scenes/particle-polygon.toml");
     let mut editor = polygon().1;
     let keys =
         parse_keys(&format!("{blocked}\n:explore 512<Enter>"), "explore.keys").expect("keys");
@@ -479,7 +478,6 @@ fn browsing_alternatives_keeps_the_command_line_and_an_edit_dismisses_them() {
     let blocked =
         std::fs::read_to_string(root().join("tests/fixtures/explore/polygon-blocked.keys"))
             .expect("fixture");
-    let path = root().join("scenes/particle-polygon.toml");
     let mut editor = polygon().1;
     let before = {
         let keys = parse_keys(&blocked, "b.keys").expect("keys");
