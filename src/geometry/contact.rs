@@ -1,3 +1,6 @@
+//! Contact queries between two geometries: the closest approach of every
+//! part pair, with the bounds that prune far pairs.
+
 use super::shapes::{Geometry, Part, PartKind};
 use crate::math::{Mat3, Vec3};
 use nalgebra::{Isometry3, Point3};

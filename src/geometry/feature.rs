@@ -1,3 +1,6 @@
+//! The touching features of a contact and how the contact point and
+//! normal move with the owners, generic in the scalar (dual numbers).
+
 use super::contact::{Contact, Corner, point_parabola};
 use super::shapes::{Geometry, PartKind};
 use crate::math::Vec3;

@@ -1,3 +1,6 @@
+//! Shapes as convex parts: building them from scene shapes, their mass
+//! properties, outlines and surfaces.
+
 use crate::math::{Mat3, Vec3};
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion};
 use parry3d_f64::shape::SharedShape;

@@ -1,3 +1,6 @@
+//! Rotations: the exponential and logarithm maps of SO(3) and their
+//! derivatives, on nalgebra types.
+
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use std::f64::consts::PI;
 

@@ -1,3 +1,6 @@
+//! The scene model: bodies, obstacles, effects, accuracy, constraints and
+//! event controls, with the kinds parsed once into enums.
+
 use crate::geometry::Geometry;
 use crate::math::{Mat3, Vec3};
 use nalgebra::{Isometry3, UnitQuaternion};

@@ -1,3 +1,6 @@
+//! The state of one rigid body and the queries on it (a point, its
+//! velocity, the pose).
+
 use crate::math::Vec3;
 use nalgebra::UnitQuaternion;
 

@@ -1,3 +1,6 @@
+//! Constraints: where they are anchored, what they ask for, and their
+//! residual rows and Jacobian rows on a trajectory.
+
 use crate::math::{Vec3, log_so3, right_jacobian_inv, skew};
 use crate::scene::Side;
 use crate::scene::StateQuantity;

@@ -1,3 +1,6 @@
+//! One differential update: the KKT solve, successive step reduction and
+//! sampling across a change of the collision sequence.
+
 use super::constraint::{Constraint, ConstraintError};
 use crate::controls::Controls;
 use crate::math::Rng;

@@ -1,3 +1,5 @@
+//! Tests of the App: keys and mouse to edits, popups, messages.
+
 use super::*;
 use crate::script::parse_keys;
 use crate::tui::fixtures::{self, FakeCore};

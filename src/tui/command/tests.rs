@@ -1,3 +1,5 @@
+//! Tests of the command-line parser and the command table.
+
 use super::table::COMMANDS;
 use super::*;
 
