@@ -43,7 +43,17 @@ fn nudge(what: &str, args: impl FnOnce(&mut Command) -> &mut Command) -> std::pr
 fn run(stem: &str) -> Session {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let dir = std::env::temp_dir().join(format!("nudge-session-{stem}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::create_dir_all(dir.join("meshes")).expect("temp dir");
+    // Mesh shapes are found from the scene file's folder: a scene saved
+    // here (`:w name`) needs its meshes beside it.
+    for mesh in std::fs::read_dir(root.join("scenes/meshes")).expect("scenes/meshes") {
+        let mesh = mesh.expect("entry").path();
+        std::fs::copy(
+            &mesh,
+            dir.join("meshes").join(mesh.file_name().expect("name")),
+        )
+        .expect("copy a mesh");
+    }
     nudge(stem, |c| {
         c.current_dir(&dir)
             .arg("run")
