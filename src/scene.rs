@@ -6,7 +6,9 @@
 mod format;
 mod model;
 
-pub use format::{DEFAULT_SCENE, SceneError, load, load_str, save, saved_text, to_toml};
+pub use format::{
+    DEFAULT_SCENE, SceneError, load, load_str, mesh_files, save, saved_text, to_toml,
+};
 pub use model::{
     Accuracy, Block, Body, ConstraintKind, ConstraintSpec, Effect, Effects, EventControl,
     MAX_EVENTS, MAX_STEPS, Method, Obstacle, ScaleKind, Scales, Scene, Side, StateQuantity,

@@ -197,3 +197,29 @@ fn a_mesh_over_the_triangle_budget_is_refused() {
         "{err}"
     );
 }
+
+/// Saving a scene with a relative mesh path into another folder is refused
+/// while the mesh is not there (the file would not load), and allowed once
+/// it is.
+#[test]
+fn saving_elsewhere_needs_the_meshes_beside_the_new_file() {
+    use nudge::edit::{Core, Editor, WriteMode};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("nudge-mesh-save-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let out = dir.join("hat-copy.toml");
+    let mut editor = Editor::open(&root.join("scenes/hat.toml")).expect("opens");
+    let err = editor
+        .save(Some(&out), WriteMode::Normal)
+        .expect_err("no mesh beside it");
+    assert!(err.to_string().contains("meshes/hat.obj"), "{err}");
+    assert!(!out.exists());
+    std::fs::create_dir_all(dir.join("meshes")).expect("meshes dir");
+    std::fs::copy(
+        root.join("scenes/meshes/hat.obj"),
+        dir.join("meshes/hat.obj"),
+    )
+    .expect("copy");
+    editor.save(Some(&out), WriteMode::Normal).expect("saves");
+    nudge::scene::load(&out).expect("the saved scene loads with its mesh");
+}

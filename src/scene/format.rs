@@ -19,6 +19,8 @@ mod constraint;
 mod in_place;
 mod inertia;
 mod mesh;
+
+pub use mesh::mesh_files;
 mod read;
 mod saved;
 mod shape;

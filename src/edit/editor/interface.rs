@@ -99,6 +99,22 @@ impl Core for Editor {
                     self.scene.name
                 ))
             })?;
+        // A relative mesh path names a file beside the scene: saving into
+        // another folder would leave the new file without its meshes.
+        let folder = |p: &Path| p.parent().map(Path::to_path_buf).unwrap_or_default();
+        let new_dir = folder(&target);
+        if self.path.as_deref().map(folder) != Some(new_dir.clone()) {
+            let missing: Vec<String> = scene::mesh_files(&self.scene)
+                .into_iter()
+                .filter(|f| !Path::new(f).is_absolute() && !new_dir.join(f).is_file())
+                .collect();
+            if let Some(first) = missing.first() {
+                return Err(EditError::Save(format!(
+                    "{} would name the mesh {first} relative to its own folder, where there is none: save beside the scene, or copy its meshes there first",
+                    target.display()
+                )));
+            }
+        }
         let layout_lost =
             scene::save(&self.scene_to_save(), &target, mode).map_err(|e| match e {
                 WriteError::ReadOnly { path } => EditError::ReadOnly(path),

@@ -195,3 +195,32 @@ pub(super) fn build(t: &Table<'_, '_>) -> Result<Geometry, SceneError> {
         t.bad("file", &e.to_string(), fix)
     })
 }
+
+/// The mesh files a scene's shapes name, as written (relative ones are
+/// relative to the scene file's folder).
+pub fn mesh_files(scene: &crate::scene::Scene) -> Vec<String> {
+    fn walk(v: &toml::Value, out: &mut Vec<String>) {
+        match v {
+            toml::Value::Table(t) => {
+                if t.get("type").and_then(toml::Value::as_str) == Some("mesh")
+                    && let Some(f) = t.get("file").and_then(toml::Value::as_str)
+                {
+                    out.push(f.to_string());
+                }
+                t.values().for_each(|x| walk(x, out));
+            }
+            toml::Value::Array(a) => a.iter().for_each(|x| walk(x, out)),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for b in &scene.bodies {
+        walk(&b.shape_source, &mut out);
+    }
+    for o in &scene.obstacles {
+        walk(&o.shape_source, &mut out);
+    }
+    out.sort();
+    out.dedup();
+    out
+}
