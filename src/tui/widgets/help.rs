@@ -41,20 +41,26 @@ mod tests {
     use crate::tui::keymap::KEYMAP;
     use crate::tui::widgets::buffer_text;
 
+    /// Draw the key help scrolled `scroll` lines into `buf`.
+    fn help(theme: Theme, scroll: u16, area: Rect, buf: &mut Buffer) {
+        let data = PopupData {
+            log: &[],
+            notes: "",
+            sensitivity: None,
+        };
+        (&Popup {
+            kind: PopupKind::Help,
+            data,
+            theme,
+            scroll,
+        })
+            .render(area, buf);
+    }
+
     #[test]
     fn lists_every_key_and_command() {
         let mut buf = Buffer::empty(Rect::new(0, 0, 120, 200));
-        (&Popup {
-            kind: PopupKind::Help,
-            data: PopupData {
-                log: &[],
-                notes: "",
-                sensitivity: None,
-            },
-            theme: Theme::PLAIN,
-            scroll: 0,
-        })
-            .render(buf.area, &mut buf);
+        help(Theme::PLAIN, 0, buf.area, &mut buf);
         let text = buffer_text(&buf);
         for b in KEYMAP {
             let key = b.key.to_string();
@@ -78,28 +84,8 @@ mod tests {
     fn scrolling_past_the_end_stops_at_the_end() {
         let mut a = Buffer::empty(Rect::new(0, 0, 80, 24));
         let mut b = Buffer::empty(Rect::new(0, 0, 80, 24));
-        (&Popup {
-            kind: PopupKind::Help,
-            data: PopupData {
-                log: &[],
-                notes: "",
-                sensitivity: None,
-            },
-            theme: Theme::PLAIN,
-            scroll: 1000,
-        })
-            .render(a.area, &mut a);
-        (&Popup {
-            kind: PopupKind::Help,
-            data: PopupData {
-                log: &[],
-                notes: "",
-                sensitivity: None,
-            },
-            theme: Theme::PLAIN,
-            scroll: u16::MAX,
-        })
-            .render(b.area, &mut b);
+        help(Theme::PLAIN, 1000, a.area, &mut a);
+        help(Theme::PLAIN, u16::MAX, b.area, &mut b);
         assert_eq!(a, b);
         assert!(buffer_text(&a).contains(":help"), "{}", buffer_text(&a));
     }
@@ -108,17 +94,7 @@ mod tests {
     fn renders_in_tiny_areas() {
         for (w, h) in [(0, 0), (1, 1), (10, 3), (4, 2)] {
             let mut buf = Buffer::empty(Rect::new(0, 0, w, h));
-            (&Popup {
-                kind: PopupKind::Help,
-                data: PopupData {
-                    log: &[],
-                    notes: "",
-                    sensitivity: None,
-                },
-                theme: Theme::COLOR,
-                scroll: 3,
-            })
-                .render(buf.area, &mut buf);
+            help(Theme::COLOR, 3, buf.area, &mut buf);
         }
     }
 }
