@@ -589,7 +589,12 @@ impl Editor {
     }
 
     fn constraint_rows(&self) -> Vec<ConstraintRow> {
-        let gaps = self.position_targets();
+        self.constraint_rows_with(&self.position_targets())
+    }
+
+    /// The constraint rows, with the gaps of [`Editor::position_targets`]
+    /// already computed.
+    fn constraint_rows_with(&self, gaps: &[(view::Target, Option<f64>)]) -> Vec<ConstraintRow> {
         self.constraints
             .iter()
             .enumerate()

@@ -15,7 +15,13 @@ impl Editor {
         let mut reverted = None;
         let label = self.describe(&edit);
         let (revision0, accuracy0) = (self.revision, self.scene.accuracy);
-        let paths0 = self.paths.clone();
+        // The drawn motion before an edit that may change it, for the ghost
+        // (not copied for the selections a scrub or playback makes).
+        let selects = matches!(
+            edit,
+            Edit::SelectBody(_) | Edit::SelectTime(_) | Edit::SelectEvent(_)
+        );
+        let paths0 = (!selects).then(|| self.paths.clone());
         let is_nudge = matches!(edit, Edit::Nudge { .. });
         // A blocked drag stays the pending goal while the user looks around
         // or nudges again; any other edit retires it.
@@ -357,7 +363,10 @@ impl Editor {
             self.commit(Snapshot { label, ..before }, old_values);
             self.refresh_geometry();
         }
-        if self.revision != revision0 && self.paths != paths0 {
+        if let Some(paths0) = paths0
+            && self.revision != revision0
+            && self.paths != paths0
+        {
             // The motion before this edit stays drawn until the next edit
             // that changes it.
             self.ghost = paths0;

@@ -53,7 +53,8 @@ impl Core for Editor {
                 scale: e.scale,
             })
             .collect();
-        let constraints = self.constraint_rows();
+        let targets = self.position_targets();
+        let constraints = self.constraint_rows_with(&targets);
         let others = (0..self.scene.bodies.len())
             .filter(|&i| i != self.selected)
             .flat_map(|i| self.body_lines(i))
@@ -68,11 +69,7 @@ impl Core for Editor {
             paths: self.paths.clone(),
             ghost: self.ghost.clone(),
             pose: self.pose(),
-            targets: self
-                .position_targets()
-                .into_iter()
-                .map(|(t, _)| t)
-                .collect(),
+            targets: targets.into_iter().map(|(t, _)| t).collect(),
             obstacles: self.obstacle_lines.clone(),
             selected_outline: if self.scene.bodies.is_empty() {
                 Vec::new()
