@@ -29,6 +29,7 @@ mod cliffs;
 mod effects;
 mod explore;
 mod fd;
+mod held;
 mod jacobian;
 mod latency;
 mod measure;
@@ -37,7 +38,7 @@ mod precision;
 mod scaling;
 mod table;
 
-pub use latency::profile_table;
+pub use latency::{profile_table, without_saves};
 
 use cases::Entry;
 use jacobian::Study;

@@ -189,6 +189,12 @@ pub enum EditError {
     /// distance to it is not a finite number.
     #[error("target too far away to measure: give values within about 1e150 of the body")]
     TargetOutOfRange,
+    /// The whole motion after nudges whose prefix was shown could not be
+    /// simulated: those nudges were taken back.
+    #[error(
+        "the motion after the last {nudges} nudge(s) could not be simulated, so they were taken back: {why}"
+    )]
+    MotionRefused { nudges: usize, why: String },
 }
 
 /// Where a scene was saved.
@@ -230,10 +236,16 @@ pub trait Core {
     fn explore_start(&self) -> Option<crate::explore::Start> {
         None
     }
-    /// Work deferred from the last edits (the integration error estimate
-    /// after a drag), done while the user pauses. Returns whether the view
-    /// changed.
+    /// Work deferred from the last edits (the rest of a nudged motion,
+    /// then its integration error estimate), done while the user pauses:
+    /// one piece per call, so call it again while no key is waiting.
+    /// Returns whether it did anything (the view may have changed).
     fn idle(&mut self) -> bool {
         false
+    }
+    /// Stop the work going on in the pauses (a settle) where it is; what
+    /// was stopped, if anything.
+    fn stop(&mut self) -> Option<String> {
+        None
     }
 }

@@ -145,6 +145,9 @@ fn real_main() -> Result<()> {
                     Editor::new(scene, None).map_err(|e| anyhow::anyhow!("{e}"))?
                 }
             };
+            // A held key's frames wait only for the solver's trials; the
+            // rest of the motion is simulated when the keys stop.
+            editor.set_defer_motion(true);
             nudge::tui::run(&mut editor).context("terminal")?;
             Ok(())
         }
@@ -364,8 +367,15 @@ fn run(
     let mut editor = Editor::open(path).map_err(|e| anyhow::anyhow!("{e}"))?;
     // A replay is deterministic: settles stop by convergence, not the clock.
     editor.set_wall_clock(false);
+    // As in the terminal (the replay pauses after every key, so the result
+    // is the same), and `--profile` shows what waits for the pauses.
+    editor.set_defer_motion(true);
     let before = editor.view();
-    let result = nudge::script::run_script_with(&mut editor, &parsed, size, keep_going);
+    let replay = nudge::script::Replay {
+        keep_going,
+        ..Default::default()
+    };
+    let result = nudge::script::run_script_with(&mut editor, &parsed, size, replay);
     if let Some(p) = screen {
         std::fs::write(&p, format!("{}\n", result.screen))
             .with_context(|| format!("writing {}", p.display()))?;

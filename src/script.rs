@@ -15,5 +15,5 @@ mod runner;
 pub use crate::tui::{Key, KeyCode, Mods};
 pub use keys::{KeyScriptError, Step, known_names, parse_keys, parse_script};
 pub use runner::{
-    FRAME_SECONDS, Latency, RunResult, ScriptFailure, latency, run_script, run_script_with,
+    FRAME_SECONDS, Latency, Replay, RunResult, ScriptFailure, latency, run_script, run_script_with,
 };

@@ -164,6 +164,9 @@ pub struct Status {
     pub accuracy: String,
     /// The latest diagnostic or error, if any.
     pub message: Option<String>,
+    /// Work going on in the pauses (a settle's progress), shown on the
+    /// status line before any message.
+    pub busy: Option<String>,
     /// The motion's estimated integration error (position m, orientation
     /// rad, velocity m/s, angular velocity rad/s; see `estimate`), if it
     /// could be estimated.

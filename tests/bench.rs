@@ -132,7 +132,7 @@ fn latency_replays_every_paper_session_with_its_parts() {
         "{text}"
     );
     for r in &rows {
-        assert_eq!(r.len(), 11, "{r:?}");
+        assert_eq!(r.len(), 12, "{r:?}");
         assert!(r[1].parse::<usize>().is_ok_and(|n| n > 0), "{r:?}");
         // The five shares are percentages that add up to at most 100 %.
         let shares: Vec<f64> = r[5..10]
@@ -141,6 +141,33 @@ fn latency_replays_every_paper_session_with_its_parts() {
             .collect();
         assert!(shares.iter().sum::<f64>() <= 100.0 + 5.0, "{r:?}");
     }
+    // Then `l` held on every paper scene: 40 presses, each timed to its
+    // frame, and the target's tally.
+    let held: Vec<Vec<&str>> = text
+        .lines()
+        .skip_while(|l| !l.trim_start().starts_with("scene  "))
+        .skip(2)
+        .take_while(|l| !l.trim_start().starts_with("target:"))
+        .map(|l| {
+            l.split("  ")
+                .map(str::trim)
+                .filter(|c| !c.is_empty())
+                .collect()
+        })
+        .collect();
+    let held_names: Vec<&str> = held.iter().map(|r| r[0]).collect();
+    assert_eq!(held_names.len(), 7, "{text}");
+    assert!(names.iter().all(|n| held_names.contains(n)), "{text}");
+    for r in &held {
+        assert_eq!(r.len(), 7, "{r:?}");
+        assert_eq!(r[1], "40", "every press reaches the core: {r:?}");
+        let times: Vec<f64> = r[3..7].iter().map(|c| c.parse().expect("ms")).collect();
+        assert!(times[0] <= times[1] && times[1] <= times[2], "{r:?}");
+    }
+    assert!(
+        text.contains("target: key→frame p95 ≤ 16 ms: met on "),
+        "{text}"
+    );
     assert!(
         text.lines()
             .last()

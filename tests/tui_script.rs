@@ -153,6 +153,7 @@ impl FakeCore {
                 blocks: 2,
                 accuracy: "rk4 h=1e-3".into(),
                 message: None,
+                busy: None,
                 integration_error: None,
             },
             dirty: false,

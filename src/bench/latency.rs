@@ -7,7 +7,7 @@
 use super::cases::PAPER_SCENES;
 use super::table::{Align, Table, ms};
 use crate::edit::Editor;
-use crate::profile::{Part, Profile};
+use crate::profile::Part;
 use crate::scene::load_str;
 use crate::script::{Latency, RunResult, Step, parse_script, run_script};
 use crate::tui::{Event, Key, KeyCode};
@@ -49,16 +49,10 @@ const UPDATE_PARTS: [Part; 5] = [
     Part::Estimate,
 ];
 
-/// Milliseconds of `part` spent inside updates: the error estimate also
-/// runs in the pauses after keys ([`RunResult::idle_ms`]), which is not
-/// update time.
+/// Milliseconds of `part` spent in the keys' updates (not in the pauses
+/// after them, [`RunResult::paused`]).
 fn in_updates(r: &RunResult, part: Part) -> f64 {
-    let v = r.profile.get(part).1;
-    if part == Part::Estimate {
-        (v - r.idle_ms.iter().sum::<f64>()).max(0.0)
-    } else {
-        v
-    }
+    r.profile.get(part).1
 }
 
 /// `steps` without the command lines that write or quit (`:w`, `:wq`,
@@ -112,6 +106,7 @@ fn replay(name: &str) -> Result<RunResult, String> {
     let mut editor = Editor::new(scene, None).map_err(|e| e.to_string())?;
     // Deterministic: settles stop by convergence, not the clock.
     editor.set_wall_clock(false);
+    editor.set_defer_motion(true);
     Ok(run_script(&mut editor, &steps, SCREEN))
 }
 
@@ -155,17 +150,24 @@ pub fn profile_table(r: &RunResult) -> String {
         ms(other / updates),
         share(other),
     ]);
-    let idle: f64 = r.idle_ms.iter().sum();
-    t.row(vec![
-        "error estimate in pauses".into(),
-        r.idle_ms.len().to_string(),
-        ms(idle),
-        String::new(),
-        String::new(),
-    ]);
+    // The work deferred to the pauses after keys: the rest of a nudged
+    // motion, its error estimate.
+    for part in [Part::Resimulate, Part::Estimate] {
+        let (calls, v) = r.paused.get(part);
+        t.row(vec![
+            format!("{} in pauses", part.name()),
+            calls.to_string(),
+            ms(v),
+            String::new(),
+            String::new(),
+        ]);
+    }
     let frames = r.render_ms.len().max(1) as f64;
     for part in [Part::View, Part::Render] {
-        let (calls, v) = r.profile.get(part);
+        let (calls, v) = {
+            let (a, b) = (r.profile.get(part), r.paused.get(part));
+            (a.0 + b.0, a.1 + b.1)
+        };
         t.row(vec![
             format!("{} (per frame)", part.name()),
             calls.to_string(),
@@ -197,8 +199,8 @@ pub(crate) fn print(out: &mut dyn Write) -> io::Result<()> {
         ("resim", Align::Right),
         ("estim", Align::Right),
         ("frame p95 [ms]", Align::Right),
+        ("pause p95 [ms]", Align::Right),
     ]);
-    let mut all = Profile::default();
     for (name, _) in SESSIONS {
         let r = match replay(name) {
             Ok(r) => r,
@@ -207,7 +209,6 @@ pub(crate) fn print(out: &mut dyn Write) -> io::Result<()> {
                 continue;
             }
         };
-        all.add(&r.profile);
         let total: f64 = r.update_ms.iter().sum();
         let cells = |l: Option<Latency>| match l {
             Some(l) => [ms(l.median), ms(l.p95), ms(l.max)],
@@ -224,6 +225,9 @@ pub(crate) fn print(out: &mut dyn Write) -> io::Result<()> {
             });
         }
         row.push(ms(r.render_latency().map_or(f64::NAN, |l| l.p95)));
+        row.push(ms(
+            crate::script::latency(&r.idle_ms).map_or(f64::NAN, |l| l.p95)
+        ));
         t.row(row);
     }
     writeln!(
@@ -233,9 +237,14 @@ pub(crate) fn print(out: &mut dyn Write) -> io::Result<()> {
     )?;
     writeln!(
         out,
-        "  shares of the update time: linearise + KKT, step trials, sampling, re-simulation, error estimate"
+        "  shares of the update time: linearise + KKT, step trials, sampling, re-simulation, error estimate;"
     )?;
-    write!(out, "{}", t.render())
+    writeln!(
+        out,
+        "  pause: the rest of a nudged motion, then its error estimate, done when the keys stop"
+    )?;
+    write!(out, "{}", t.render())?;
+    super::held::print(out)
 }
 
 #[cfg(test)]

@@ -20,7 +20,9 @@ use std::time::Instant;
 mod apply;
 mod explain;
 mod interface;
+mod motion;
 mod readout;
+mod settle;
 mod spec;
 
 use spec::{from_spec, to_spec};
@@ -84,6 +86,17 @@ pub struct Editor {
     /// gradients could not reach, kept for exploring (`crate::explore`)
     /// until an edit other than a selection or another nudge.
     pending_drag: Option<Constraint>,
+    /// Keep a nudge's simulated prefix until a pause (`motion`).
+    defer_motion: bool,
+    /// `traj` is a prefix: the rest of the motion waits for a pause.
+    motion_due: bool,
+    /// While `motion_due`: the undo entry holding the last state whose
+    /// motion was whole.
+    whole_at: Option<usize>,
+    /// Motions simulated so far ([`Editor::set_motion`]).
+    motions: u64,
+    /// A settle going on in the pauses (`settle`).
+    settling: Option<settle::Settling>,
 }
 
 /// Every traced point's path on `traj`, as the screen draws it.
@@ -188,6 +201,11 @@ impl Editor {
             estimate_due: false,
             obstacle_lines: Vec::new(),
             pending_drag: None,
+            defer_motion: false,
+            motion_due: false,
+            whole_at: None,
+            motions: 0,
+            settling: None,
         };
         e.refresh_geometry();
         e.status.residual = e.residual();
@@ -288,7 +306,9 @@ impl Editor {
             self.last_delta = vec![0.0; controls.entries.len()];
         }
         self.controls = controls;
-        self.traj = traj;
+        self.set_motion(traj);
+        self.motion_due = false;
+        self.whole_at = None;
         self.refresh_geometry();
         Ok(())
     }
@@ -386,9 +406,12 @@ impl Editor {
 
     /// One differential update towards `constraints`; applies it when it
     /// lowers the residual. Returns the diagnostics.
+    /// `defer`: a nudge's step, whose simulated prefix may stand for the
+    /// motion until a pause (`motion`).
     fn step(
         &mut self,
         constraints: &[Constraint],
+        defer: bool,
     ) -> Result<(bool, Vec<Diagnostic>, f64), EditError> {
         let start = Instant::now();
         let res = solve::update(
@@ -409,12 +432,18 @@ impl Editor {
             // The solver simulates only up to its horizon; the editor shows
             // (and the next edit may constrain) the whole motion.
             let whole = tr.duration >= self.scene.duration;
-            self.traj = if tr.tangent && same && whole {
-                tr
+            if tr.tangent && same && whole {
+                self.set_motion(tr);
+                self.motion_due = false;
+                self.whole_at = None;
+            } else if same && defer && self.prefix_suffices(&tr) {
+                self.keep_prefix(tr);
             } else {
                 let _span = crate::profile::span(crate::profile::Part::Resimulate);
-                simulate_with_tangent(&self.scene, &self.controls)?
-            };
+                self.set_motion(simulate_with_tangent(&self.scene, &self.controls)?);
+                self.motion_due = false;
+                self.whole_at = None;
+            }
         }
         self.updates += 1;
         self.update_ms.push(start.elapsed().as_secs_f64() * 1e3);
@@ -456,7 +485,7 @@ impl Editor {
         };
         let mut all = self.constraints.clone();
         all.push(drag.clone());
-        let (moved, mut diags, _) = self.step(&all)?;
+        let (moved, mut diags, _) = self.step(&all, true)?;
         let fraction = self.status.step;
         let blocked = diags.iter().any(|d| {
             matches!(
@@ -493,7 +522,7 @@ impl Editor {
                 if self.residual() < 1e-9 {
                     break;
                 }
-                let (again, d, _) = self.step(&persistent)?;
+                let (again, d, _) = self.step(&persistent, true)?;
                 diags.extend(d);
                 if !again {
                     break;
@@ -541,51 +570,8 @@ impl Editor {
         }
         self.controls
             .write(&mut self.scene, &nalgebra::DVector::from_column_slice(u));
-        self.traj = simulate_with_tangent(&self.scene, &self.controls)?;
+        self.set_motion(simulate_with_tangent(&self.scene, &self.controls)?);
         Ok(())
-    }
-
-    fn settle(&mut self, budget_ms: u64) -> Result<Vec<Diagnostic>, EditError> {
-        let start = Instant::now();
-        let mut diags = Vec::new();
-        let mut last = self.residual();
-        // Where a strongly nonlinear motion (a collision that spins a body
-        // fast) lets only a small fraction of the Gauss–Newton step through,
-        // the next update starts near the fraction that worked instead of
-        // at the full step: the same progress for fewer trials. Settling
-        // goes on as long as the residual falls.
-        let full = self.opts.step;
-        let mut first = full;
-        // A drag that only creeps is better reported as blocked; settling
-        // towards typed values may take small steps.
-        let halvings = self.opts.halvings;
-        for _ in 0..MAX_SETTLE_UPDATES {
-            if self.wall_clock && start.elapsed().as_millis() >= u128::from(budget_ms.max(1)) {
-                break;
-            }
-            if last < 1e-10 || self.constraints.is_empty() {
-                break;
-            }
-            let constraints = self.constraints.clone();
-            self.opts.step = first;
-            self.opts.halvings = SETTLE_HALVINGS;
-            let stepped = self.step(&constraints);
-            self.opts.step = full;
-            self.opts.halvings = halvings;
-            let (moved, d, after) = stepped?;
-            diags = d;
-            if !moved || after >= last * (1.0 - 1e-9) {
-                break;
-            }
-            let accepted = self.status.step;
-            first = if accepted > 0.0 {
-                (4.0 * accepted).min(full)
-            } else {
-                full
-            };
-            last = after;
-        }
-        Ok(diags)
     }
 
     fn constraint_rows(&self) -> Vec<ConstraintRow> {

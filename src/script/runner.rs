@@ -26,13 +26,18 @@ pub struct RunResult {
     /// Wall time of every frame render (one before the first key, one per
     /// key), ms.
     pub render_ms: Vec<f64>,
+    /// Per key that reached the core: wall time from the key to its frame
+    /// drawn (the key's edits, the view and the render), ms.
+    pub frame_ms: Vec<f64>,
     /// Whether a key quit the editor (the remaining keys were not replayed).
     pub quit: bool,
-    /// Wall time of the work done in pauses after keys (the integration
-    /// error estimate deferred from drags), ms.
+    /// Wall time of the work done in pauses after keys (the rest of a
+    /// nudged motion, the integration error estimate), ms.
     pub idle_ms: Vec<f64>,
-    /// Where the updates' and frames' time went.
+    /// Where the time of the keys' updates and frames went.
     pub profile: crate::profile::Profile,
+    /// Where the time of the pauses' work (and the frames it redrew) went.
+    pub paused: crate::profile::Profile,
     /// Command lines that did not parse (a misspelt command, a bad
     /// number). Without `keep_going` the replay stops at the first.
     pub failures: Vec<ScriptFailure>,
@@ -103,16 +108,36 @@ pub fn run_script<S: Copy + Into<Step>>(
     steps: &[S],
     size: (u16, u16),
 ) -> RunResult {
-    run_script_with(core, steps, size, false)
+    run_script_with(core, steps, size, Replay::default())
 }
 
-/// [`run_script`], going on past command lines that do not parse when
-/// `keep_going` (they are all listed in [`RunResult::failures`]).
+/// How a replay runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Replay {
+    /// Go on past command lines that do not parse (they are all listed in
+    /// [`RunResult::failures`]) instead of stopping at the first.
+    pub keep_going: bool,
+    /// Pause after every key, so the editor does its deferred work
+    /// ([`Core::idle`]) as in the terminal when the user stops typing;
+    /// `false` replays keys as a held key arrives, with no pause between.
+    pub pauses: bool,
+}
+
+impl Default for Replay {
+    fn default() -> Self {
+        Replay {
+            keep_going: false,
+            pauses: true,
+        }
+    }
+}
+
+/// [`run_script`] as `replay` says.
 pub fn run_script_with<S: Copy + Into<Step>>(
     core: &mut impl Core,
     steps: &[S],
     size: (u16, u16),
-    keep_going: bool,
+    replay: Replay,
 ) -> RunResult {
     let (w, h) = size;
     let mut app = App::new(&core.view(), Rect::new(0, 0, w, h), Theme::COLOR);
@@ -126,12 +151,16 @@ pub fn run_script_with<S: Copy + Into<Step>>(
     let mut update_ms = Vec::new();
     let mut render_ms = Vec::new();
     let mut idle_ms = Vec::new();
+    let mut keys = crate::profile::Profile::default();
+    let mut paused = crate::profile::Profile::default();
+    let mut frame_ms = Vec::new();
     if let Ok(ms) = draw(&mut terminal, core, &mut app) {
         render_ms.push(ms);
     }
     let mut failures = Vec::new();
     for step in steps {
         let step: Step = (*step).into();
+        let pressed = std::time::Instant::now();
         let before = (app.clone(), core.dirty());
         match step.event {
             Event::Key(key) => app.handle_key(core, key),
@@ -164,16 +193,26 @@ pub fn run_script_with<S: Copy + Into<Step>>(
         if let Ok(ms) = draw(&mut terminal, core, &mut app) {
             render_ms.push(ms);
         }
+        if !applied.is_empty() {
+            frame_ms.push(pressed.elapsed().as_secs_f64() * 1e3);
+        }
         // What the editor defers to a pause (as after each key in the
         // terminal when no other key is waiting), timed on its own.
-        let start = std::time::Instant::now();
-        if core.idle() {
+        keys.add(&crate::profile::take());
+        let mut pausing = replay.pauses;
+        while pausing {
+            let start = std::time::Instant::now();
+            pausing = core.idle();
+            if !pausing {
+                break;
+            }
             idle_ms.push(start.elapsed().as_secs_f64() * 1e3);
             if let Ok(ms) = draw(&mut terminal, core, &mut app) {
                 render_ms.push(ms);
             }
         }
-        let stop = failed.is_some() && !keep_going;
+        paused.add(&crate::profile::take());
+        let stop = failed.is_some() && !replay.keep_going;
         failures.extend(failed);
         if app.quit || stop {
             break;
@@ -185,7 +224,12 @@ pub fn run_script_with<S: Copy + Into<Step>>(
         update_ms,
         render_ms,
         quit: app.quit,
-        profile: crate::profile::take(),
+        profile: {
+            keys.add(&crate::profile::take());
+            keys
+        },
+        paused,
+        frame_ms,
         idle_ms,
         failures,
     }

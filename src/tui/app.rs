@@ -410,6 +410,9 @@ impl App {
             Action::Cancel => {
                 if self.input == Input::Normal {
                     self.cancel_exploring();
+                    if let Some(stopped) = core.stop() {
+                        self.say_info(stopped);
+                    }
                 }
                 self.input = Input::Normal;
                 self.drag = None;

@@ -123,6 +123,7 @@ pub fn view() -> View {
             blocks: 0,
             accuracy: "rk4 h=1e-3".into(),
             message: None,
+            busy: None,
             integration_error: None,
         },
         dirty: false,

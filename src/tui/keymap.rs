@@ -431,7 +431,7 @@ pub static KEYMAP: &[Binding] = &[
     bind(ch('M'), Nrm, Action::Popup(PopupKind::Messages), "every message so far (:messages)"),
     bind(ch('I'), Nrm, Action::Popup(PopupKind::Jacobian), "how each free control moves the body (:jacobian)"),
     hint(ch('q'), Nrm, Action::Quit, "quit (asks when there are unsaved edits)", "quit"),
-    bind(code(KeyCode::Esc), Nrm, Action::Cancel, "cancel a count or a drag; never quits"),
+    bind(code(KeyCode::Esc), Nrm, Action::Cancel, "cancel a count, a drag or a settle; never quits"),
     // After `b`.
     hint(ch('p'), Blk, Action::ToggleBlock(Block::Position), "initial position", "block"),
     hint(ch('o'), Blk, Action::ToggleBlock(Block::Orientation), "initial orientation", "block"),

@@ -160,7 +160,7 @@ pub fn event_loop<B: Backend, C: Core, E: EventSource>(
         }
         // Deferred work (the error estimate after a drag) when no key is
         // waiting: a held key's frames do not wait for it.
-        if !events.poll(Duration::ZERO)? && core.idle() {
+        while !events.poll(Duration::ZERO)? && core.idle() {
             draw(terminal, core, app)?;
         }
         let timeout = if app.playing {

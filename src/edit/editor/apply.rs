@@ -14,7 +14,7 @@ impl Editor {
         let mut anchored = None;
         let mut reverted = None;
         let label = self.describe(&edit);
-        let (revision0, accuracy0) = (self.revision, self.scene.accuracy);
+        let (revision0, motions0) = (self.revision, self.motions);
         // The drawn motion before an edit that may change it, for the ghost
         // (not copied for the selections a scrub or playback makes).
         let selects = matches!(
@@ -371,10 +371,11 @@ impl Editor {
             // that changes it.
             self.ghost = paths0;
         }
-        if self.revision != revision0 || self.scene.accuracy != accuracy0 || self.estimate_due {
-            // The motion changed: so may its accuracy. During a drag the
-            // estimate waits until the user pauses.
-            if is_nudge {
+        if self.motions != motions0 || self.estimate_due {
+            // The motion changed (not only a constraint on it): so may its
+            // accuracy. During a drag the estimate waits until the user
+            // pauses.
+            if is_nudge || self.settling.is_some() {
                 self.estimate_due = true;
             } else {
                 self.estimate_due = false;

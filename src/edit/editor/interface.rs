@@ -4,6 +4,14 @@ use super::*;
 
 impl Core for Editor {
     fn apply(&mut self, edit: Edit) -> Result<Outcome, EditError> {
+        // Only another nudge of the same drag goes on from a prefix.
+        let same_drag = matches!(edit, Edit::Nudge { .. }) && self.prefix_suffices(&self.traj);
+        // A settle going on in the pauses stops where it is.
+        self.stop_settling();
+        if !same_drag && let Err(e) = self.complete_motion() {
+            self.status.message = Some(e.to_string());
+            return Err(e);
+        }
         let before = self.snapshot();
         let (selected, time, revision) = (self.selected, self.time, self.revision);
         let undo_len = self.undo.len();
@@ -135,7 +143,15 @@ impl Core for Editor {
     }
 
     fn export_gltf(&self, path: &Path, fps: f64) -> Result<usize, EditError> {
-        let bytes = crate::export::to_glb(&self.scene, &self.traj, fps)
+        // A nudge's prefix is not the motion to export: the whole one is.
+        let whole;
+        let traj = if self.motion_due {
+            whole = simulate_with_tangent(&self.scene, &self.controls)?;
+            &whole
+        } else {
+            &self.traj
+        };
+        let bytes = crate::export::to_glb(&self.scene, traj, fps)
             .map_err(|e| EditError::Save(e.to_string()))?;
         std::fs::write(path, &bytes)
             .map_err(|e| EditError::Save(format!("{}: {e}", path.display())))?;
@@ -147,6 +163,20 @@ impl Core for Editor {
     }
 
     fn idle(&mut self) -> bool {
+        // First the rest of a nudged motion, then (at the next pause) its
+        // error estimate: each is one frame's worth of waiting at most.
+        match self.complete_motion() {
+            Ok(true) => return true,
+            Ok(false) => {}
+            Err(e) => {
+                self.estimate_due = false;
+                self.status.message = Some(e.to_string());
+                return true;
+            }
+        }
+        if let Some(changed) = self.settle_in_pause() {
+            return changed;
+        }
         if !self.estimate_due {
             return false;
         }
@@ -156,6 +186,10 @@ impl Core for Editor {
             self.status.message = note;
         }
         true
+    }
+
+    fn stop(&mut self) -> Option<String> {
+        self.stop_settling()
     }
 
     fn sensitivity(&self) -> Result<view::Sensitivity, String> {

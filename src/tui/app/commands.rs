@@ -189,7 +189,10 @@ impl App {
     }
 
     pub(super) fn settle(&mut self, core: &mut impl Core, budget_ms: u64) {
-        if let Some(o) = self.apply(core, Edit::Settle { budget_ms }) {
+        if let Some(o) = self.apply(core, Edit::Settle { budget_ms })
+            // A settle going on in the pauses shows its own progress.
+            && core.view().status.busy.is_none()
+        {
             let residual = crate::tui::format::num(core.view().status.residual, 8);
             self.say_info(format!(
                 "settled: {} updates, residual {residual}",

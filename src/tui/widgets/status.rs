@@ -172,10 +172,9 @@ impl Widget for &BottomLine<'_> {
                     .message
                     .as_ref()
                     .map(|m| (m.as_str(), Level::Warning));
-                match app
-                    .message
-                    .as_ref()
-                    .map(|m| (m.text.as_str(), m.level))
+                let busy = v.status.busy.as_deref().map(|m| (m, Level::Info));
+                match busy
+                    .or(app.message.as_ref().map(|m| (m.text.as_str(), m.level)))
                     .or(core_message)
                 {
                     Some((text, level)) => {
