@@ -148,6 +148,14 @@ pub fn text(scene: &Scene, controls: &Controls, traj: &Trajectory) -> String {
         let listed = if scene.effects.has(e) { "on " } else { "off" };
         let _ = writeln!(s, "  {:<11} {listed} {:>10}", e.name(), counter(traj, e));
     }
+    if scene.effects.collisions {
+        let islands = traj.counters.islands.get();
+        let _ = writeln!(
+            s,
+            "  {:<11}     {islands:>10}  (island statics solved)",
+            "islands"
+        );
+    }
     let _ = writeln!(
         s,
         "\ncontrols ({} free of {}):",

@@ -17,6 +17,7 @@ mod events;
 mod flight;
 mod impulse;
 mod integrator;
+pub mod island;
 mod jet;
 mod rest;
 mod run;

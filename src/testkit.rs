@@ -129,3 +129,60 @@ pub fn adaptive(scene: &mut Scene, tol: f64) {
         max_step: 0.02,
     };
 }
+
+/// Ball radius of [`balls_in_box`], m.
+pub const BALL_RADIUS: f64 = 0.05;
+
+/// `n` balls of radius [`BALL_RADIUS`] on a grid in a box (ground and four
+/// walls) whose floor area grows with `n` (constant density, so collisions
+/// per ball stay about the same), with seeded random velocities and the
+/// given restitution; the first `free` balls have free position and
+/// velocity; every body–body pair is listed.
+pub fn balls_in_box(
+    n: usize,
+    horizon: f64,
+    free: usize,
+    seed: u64,
+    restitution: f64,
+) -> Result<Scene, String> {
+    let mut scene = self::scene(horizon);
+    scene.name = format!("{n} balls");
+    let side = (n as f64).sqrt().ceil().max(1.0) as usize;
+    let half = 0.5 * side as f64;
+    let spacing = 2.0 * half / side as f64;
+    let mut rng = crate::math::Rng(seed);
+    let sphere = Geometry::sphere(BALL_RADIUS).map_err(|e| e.to_string())?;
+    for i in 0..n {
+        let (gx, gy) = ((i % side) as f64, (i / side) as f64);
+        let position = Vec3::new(
+            -half + spacing * (gx + 0.5),
+            -half + spacing * (gy + 0.5),
+            rng.range(0.3, 1.0),
+        );
+        let mut b = body(&format!("ball{i}"), sphere.clone(), position);
+        b.velocity = Vec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(0.0, 2.0),
+        );
+        b.restitution = restitution;
+        if i < free {
+            b.free = vec![Block::Position, Block::Velocity];
+        }
+        scene.bodies.push(b);
+    }
+    scene.obstacles.push(ground());
+    for (name, normal) in [
+        ("wall+x", -Vec3::x()),
+        ("wall-x", Vec3::x()),
+        ("wall+y", -Vec3::y()),
+        ("wall-y", Vec3::y()),
+    ] {
+        let g = Geometry::half_space(normal).map_err(|e| e.to_string())?;
+        scene.obstacles.push(obstacle(name, g, -normal * half));
+    }
+    scene.pairs = (0..n)
+        .flat_map(|i| (i + 1..n).map(move |j| [i, j]))
+        .collect();
+    Ok(scene)
+}

@@ -250,6 +250,11 @@ fn scaling_prints_times_and_exponents() {
             "exponent of {what}:\n{text}"
         );
     }
+    // Balls that settle at restitution 0.5 and 0.8 run without an error.
+    assert!(
+        text.contains("Balls in a box at restitution e") && !text.contains("error"),
+        "{text}"
+    );
 }
 
 /// The methods section compares all three methods on every paper scene and

@@ -6,67 +6,22 @@
 use super::measure::{Plan, Timing, guarded, loglog_slope, measure};
 use super::table::{Align, Table, ms, num};
 use crate::controls::Controls;
-use crate::geometry::Geometry;
-use crate::math::{Rng, Vec3};
-use crate::scene::{Block, Scene};
+use crate::scene::Scene;
 use crate::sim::{SimOptions, simulate};
 use crate::testkit;
 use std::io::{self, Write};
 
 /// Ball radius, m.
-const RADIUS: f64 = 0.05;
+const RADIUS: f64 = crate::testkit::BALL_RADIUS;
 
-/// `n` balls on a grid in a box whose floor area grows with `n` (constant
-/// density, so collisions per ball stay about the same), with seeded random
-/// velocities; the first `free` balls have free position and velocity.
+/// `n` balls in a box of restitution 1 (see [`testkit::balls_in_box`]).
 pub(crate) fn balls_in_box(
     n: usize,
     horizon: f64,
     free: usize,
     seed: u64,
 ) -> Result<Scene, String> {
-    let mut scene = testkit::scene(horizon);
-    scene.name = format!("{n} balls");
-    let side = (n as f64).sqrt().ceil().max(1.0) as usize;
-    let half = 0.5 * side as f64;
-    let spacing = 2.0 * half / side as f64;
-    let mut rng = Rng(seed);
-    let sphere = Geometry::sphere(RADIUS).map_err(|e| e.to_string())?;
-    for i in 0..n {
-        let (gx, gy) = ((i % side) as f64, (i / side) as f64);
-        let position = Vec3::new(
-            -half + spacing * (gx + 0.5),
-            -half + spacing * (gy + 0.5),
-            rng.range(0.3, 1.0),
-        );
-        let mut b = testkit::body(&format!("ball{i}"), sphere.clone(), position);
-        b.velocity = Vec3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(0.0, 2.0),
-        );
-        b.restitution = 1.0;
-        if i < free {
-            b.free = vec![Block::Position, Block::Velocity];
-        }
-        scene.bodies.push(b);
-    }
-    scene.obstacles.push(testkit::ground());
-    for (name, normal) in [
-        ("wall+x", -Vec3::x()),
-        ("wall-x", Vec3::x()),
-        ("wall+y", -Vec3::y()),
-        ("wall-y", Vec3::y()),
-    ] {
-        let g = Geometry::half_space(normal).map_err(|e| e.to_string())?;
-        scene
-            .obstacles
-            .push(testkit::obstacle(name, g, -normal * half));
-    }
-    scene.pairs = (0..n)
-        .flat_map(|i| (i + 1..n).map(move |j| [i, j]))
-        .collect();
-    Ok(scene)
+    testkit::balls_in_box(n, horizon, free, seed, 1.0)
 }
 
 struct Point {
@@ -235,6 +190,79 @@ pub(crate) fn print(out: &mut dyn Write, plan: &Plan) -> io::Result<()> {
             num(k - ke, 2)
         )?;
     }
+    settling(out, plan)
+}
+
+/// Balls that settle: restitution 0.5 and 0.8, N up to 256, a horizon of
+/// [`SETTLE_T`] s, without tangents (the states alone: what a solver trial
+/// costs); slow contacts between balls are micro-collisions or islands
+/// that rest (`sim::run::islands`).
+const SETTLE_T: f64 = 4.0;
+
+fn settling(out: &mut dyn Write, plan: &Plan) -> io::Result<()> {
+    let ns: &[usize] = if plan.quick {
+        &[1, 4, 16, 64]
+    } else {
+        &[1, 4, 16, 64, 256]
+    };
+    let mut t = Table::new(&[
+        ("e", Align::Right),
+        ("N", Align::Right),
+        ("events", Align::Right),
+        ("micro", Align::Right),
+        ("resting", Align::Right),
+        ("ms per sim. s", Align::Right),
+        ("per event [ms]", Align::Right),
+        ("reps", Align::Right),
+    ]);
+    for e in [0.5, 0.8] {
+        for &n in ns {
+            let lead = vec![num(e, 1), n.to_string()];
+            let scene = match testkit::balls_in_box(n, SETTLE_T, 0, 0x5ca1_ab1e, e) {
+                Ok(s) => s,
+                Err(err) => {
+                    t.message(lead, format!("error: {err}"));
+                    continue;
+                }
+            };
+            let controls = Controls::new(&scene);
+            let r = guarded(|| {
+                measure(plan, || {
+                    simulate(&scene, &controls, &SimOptions::without_tangents())
+                })
+                .map_err(|err| err.to_string())
+            });
+            match r {
+                Ok((timing, tr)) => {
+                    let events = tr.events.len();
+                    let resting = (0..n)
+                        .filter(|&i| tr.resting(i, SETTLE_T, crate::sim::Side::Post))
+                        .count();
+                    let mut c = lead;
+                    c.extend([
+                        events.to_string(),
+                        tr.events.iter().filter(|ev| ev.micro).count().to_string(),
+                        resting.to_string(),
+                        ms(timing.ms / SETTLE_T),
+                        ms(timing.ms / events.max(1) as f64),
+                        timing.reps.to_string(),
+                    ]);
+                    t.row(c);
+                }
+                Err(err) => t.message(lead, format!("error: {err}")),
+            }
+        }
+    }
+    writeln!(out)?;
+    write!(out, "{}", t.render())?;
+    writeln!(
+        out,
+        "  Balls in a box at restitution e for {SETTLE_T} s, states only (no tangents); micro: micro-collisions,"
+    )?;
+    writeln!(
+        out,
+        "  resting: balls frozen at the end (alone or as an island of balls resting on balls)."
+    )?;
     Ok(())
 }
 

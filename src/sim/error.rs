@@ -73,10 +73,11 @@ pub enum SimError {
         "more than {limit} collision events by t = {t:.6} s; shorten the duration or raise rest_speed"
     )]
     TooManyEvents { limit: usize, t: f64 },
-    /// Two parties stayed in contact, colliding ever faster (resting contact
-    /// between bodies is outside the impact model).
+    /// Two parties stayed in contact, colliding ever faster, neither coming
+    /// to rest nor bounded by micro-collisions (a guard: with a rest speed
+    /// slow contacts rest or hop; see `sim::run::islands`).
     #[error(
-        "\"{a}\" and \"{b}\" stay in contact from t = {t:.6} s ({count} impacts in {span:.1e} s): nudge models impacts, not sustained contact; raise restitution or separate them"
+        "\"{a}\" and \"{b}\" stay in contact from t = {t:.6} s ({count} impacts in {span:.1e} s) without coming to rest; raise rest_speed so micro-collisions bound the impacts, or raise restitution or separate them"
     )]
     SustainedContact {
         a: String,

@@ -15,6 +15,7 @@ use crate::scene::{Block, Method, Scene};
 use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
 
 mod impact;
+mod islands;
 mod saltation;
 
 use super::error::MAX_SUBSTEPS;
@@ -641,6 +642,7 @@ impl Sim<'_> {
         let overlap = |a: &(Vec3, Vec3), b: &(Vec3, Vec3)| {
             (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k])
         };
+        let frozen: Vec<bool> = (0..n).map(|i| self.frozen(i)).collect();
         // Sweep and prune on x for body–body pairs (not quadratic in N).
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
@@ -650,8 +652,10 @@ impl Sim<'_> {
             active.retain(|&j| boxes[j].1.x >= boxes[i].0.x);
             for &j in &active {
                 let key = (i.min(j), i.max(j));
+                // Two frozen bodies never meet: their pair is not searched.
                 if let Some(&k) = self.body_pairs.get(&key)
                     && overlap(&boxes[i], &boxes[j])
+                    && !(frozen[i] && frozen[j])
                 {
                     close.push(k);
                 }

@@ -101,6 +101,13 @@ pub enum TangentError {
         "grazing contact at event {event} (t = {t:.6} s, |E_q F| ratio {ratio:.1e}): the motion is not differentiable there; nudge falls back to sampling"
     )]
     Grazing { event: usize, t: f64, ratio: f64 },
+    /// Bodies rest on bodies, are anchored by a frozen body or woken from
+    /// rest: the freeze and wake times and who takes part jump with the
+    /// controls, so the Jacobian is flagged lost from here on.
+    #[error(
+        "bodies rest on bodies from t = {t:.6} s (resting, anchored or woken contact): the motion is not differentiable there; nudge falls back to sampling"
+    )]
+    Contact { t: f64 },
     /// The simulation was run without tangents.
     #[error("the trajectory was simulated without tangents")]
     NotComputed,
@@ -113,7 +120,9 @@ impl TangentError {
     /// Time from which Jacobians are unavailable.
     pub fn time(&self) -> f64 {
         match self {
-            TangentError::Grazing { t, .. } | TangentError::NonFinite { t } => *t,
+            TangentError::Grazing { t, .. }
+            | TangentError::NonFinite { t }
+            | TangentError::Contact { t } => *t,
             TangentError::NotComputed => f64::NEG_INFINITY,
         }
     }
@@ -128,6 +137,8 @@ pub struct Counters {
     pub gyroscopic: Cell<u64>,
     pub collisions: Cell<u64>,
     pub friction: Cell<u64>,
+    /// Island statics solved (bodies resting on bodies, `sim::island`).
+    pub islands: Cell<u64>,
 }
 
 impl Counters {

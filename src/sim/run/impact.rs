@@ -101,6 +101,10 @@ impl Sim<'_> {
             mode: FrictionMode::default(),
             min_separation: None,
         };
+        // Frozen parties: anchored supports, or woken (run/islands.rs).
+        let frozen_a = self.frozen(a);
+        let frozen_b = pair.b_body().is_some_and(|j| self.frozen(j));
+        let anchored = self.anchor(&mut ctx, &pair, contact, [frozen_a, frozen_b]);
         let mut res = ctx.apply();
         if friction > 0.0 {
             Counters::bump(&self.traj.counters.friction, 1);
@@ -220,7 +224,7 @@ impl Sim<'_> {
         self.pairs[k].hold = tc;
         self.check_sustained(k, tc)?;
         // How the bounce ends (rest, slide, or on bouncing; see `sim::rest`).
-        let mode = match pair.b {
+        let mut mode = match pair.b {
             Party::Obstacle(o) => {
                 let post = BodyState {
                     v: res.va,
@@ -246,17 +250,33 @@ impl Sim<'_> {
             }
             Party::Body(_) => Mode::Bounce,
         };
+        // Bodies resting on bodies: the slow parties' island, when held,
+        // freezes (run/islands.rs).
+        let island = if mode == Mode::Rest {
+            Vec::new()
+        } else {
+            self.impact_island(
+                tc,
+                &pair,
+                [&sa, sb.as_ref().unwrap_or(&sa)],
+                &res,
+                [frozen_a, frozen_b],
+            )
+        };
+        if island.iter().any(|(i, _)| *i == a) {
+            mode = Mode::Rest;
+        }
+        let b_rests = island.iter().any(|(i, _)| Some(*i) == pair.b_body());
         let rest = mode == Mode::Rest;
         let mut micro = false;
-        let v_min = rest::thresholds(
-            scene,
-            &self.traj.dynamics[a],
-            &self.traj.gravity,
-            self.tol.arm,
-        )
-        .0;
+        // The micro-collision floor of a pair of bodies is the larger of
+        // their rest speeds.
+        let v_min = std::iter::once(a)
+            .chain(pair.b_body())
+            .map(|i| self.rest_thresholds(i).0)
+            .fold(0.0, f64::max);
         if mode == Mode::Bounce
-            && matches!(pair.b, Party::Obstacle(_))
+            && !b_rests
             && res.separation < v_min
             && -res.approach < rest::MICRO * v_min
         {
@@ -288,11 +308,28 @@ impl Sim<'_> {
             }
             Mode::Bounce => {}
         }
-        let post_b = sb.map(|s| BodyState {
-            v: res.vb,
-            w: res.wb,
-            ..s
+        let post_b = sb.map(|s| {
+            if b_rests || (anchored && frozen_b) {
+                BodyState {
+                    v: Vec3::zeros(),
+                    w: Vec3::zeros(),
+                    ..s
+                }
+            } else {
+                BodyState {
+                    v: res.vb,
+                    w: res.wb,
+                    ..s
+                }
+            }
         });
+        if anchored && frozen_a {
+            post_a = BodyState {
+                v: Vec3::zeros(),
+                w: Vec3::zeros(),
+                ..sa
+            };
+        }
         for (i, s) in [(Some(a), Some(post_a)), (pair.b_body(), post_b)] {
             if let (Some(i), Some(s)) = (i, s)
                 && !s.is_finite()
@@ -319,6 +356,7 @@ impl Sim<'_> {
         let mut graze_ratio = f64::NAN;
         let mut grazing = false;
         let b_body = pair.b_body();
+        self.lose_island_tangents(tc, &pair, &island, anchored, [frozen_a, frozen_b]);
         let lost = self.traj.tangent_lost[a].or(b_body.and_then(|j| self.traj.tangent_lost[j]));
         if let (true, Some((_, e))) = (self.traj.tangent, lost) {
             // One party's Jacobians are already lost: the collision takes
@@ -401,10 +439,15 @@ impl Sim<'_> {
             post: [post_a, post_b.unwrap_or(post_a)],
         };
         self.traj.events.push(event);
-        self.start_segment(a, tc, post_a, ja, rest, slide);
-        if let (Some(j), Some(s)) = (pair.b_body(), post_b) {
-            self.start_segment(j, tc, s, jb, false, None);
+        if !(anchored && frozen_a) {
+            self.start_segment(a, tc, post_a, ja, rest, slide);
         }
+        if let (Some(j), Some(s)) = (pair.b_body(), post_b)
+            && !(anchored && frozen_b)
+        {
+            self.start_segment(j, tc, s, jb, b_rests, None);
+        }
+        self.settle_island(tc, &pair, &island, anchored, [frozen_a, frozen_b]);
         Ok(())
     }
 

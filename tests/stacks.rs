@@ -1,0 +1,382 @@
+//! Bodies resting on bodies: stacks that settle, stand and fall when
+//! struck; the island statics against closed forms; balls in a box that
+//! settle without a sustained-contact error (docs/design.md §4).
+
+use nudge::controls::Controls;
+use nudge::geometry::Geometry;
+use nudge::math::Vec3;
+use nudge::scene::Scene;
+use nudge::sim::island::{IslandBody, IslandContact, contact_forces};
+use nudge::sim::{Side, SimOptions, Trajectory, simulate};
+use nudge::testkit;
+
+const G: f64 = 9.81;
+
+/// A tower of `n` cubes (half side `h`) on the ground, each `gap` above the
+/// one below, restitution `e`.
+fn tower(n: usize, h: f64, gap: f64, e: f64, duration: f64) -> Scene {
+    let mut s = testkit::scene(duration);
+    s.obstacles.push(testkit::ground());
+    let cube = Geometry::cuboid(Vec3::repeat(h)).unwrap();
+    for k in 0..n {
+        let z = h + 2.0 * h * k as f64 + gap * (k + 1) as f64;
+        let mut b = testkit::body(&format!("box{k}"), cube.clone(), Vec3::new(0.0, 0.0, z));
+        b.restitution = e;
+        s.bodies.push(b);
+    }
+    s.pairs = (0..n)
+        .flat_map(|i| (i + 1..n).map(move |j| [i, j]))
+        .collect();
+    s
+}
+
+fn run(s: &Scene) -> Trajectory {
+    simulate(s, &Controls::new(s), &SimOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// When body `i`'s last segment started, if it rests.
+fn rests_from(tr: &Trajectory, i: usize) -> Option<f64> {
+    let seg = tr.tracks[i].segments.last()?;
+    seg.rest.then_some(seg.t0)
+}
+
+#[test]
+fn a_box_on_a_box_rests_for_ten_seconds_without_drift_or_events() {
+    let s = tower(2, 0.1, 1e-3, 0.5, 10.0);
+    let tr = run(&s);
+    let settled = (0..2)
+        .map(|i| rests_from(&tr, i).unwrap_or_else(|| panic!("box{i} does not rest")))
+        .fold(0.0, f64::max);
+    assert!(settled < 1.0, "settled at {settled} s");
+    let after = tr.events.iter().filter(|e| e.t > settled).count();
+    assert_eq!(after, 0, "events after rest");
+    for i in 0..2 {
+        let a = tr.state(i, settled, Side::Post);
+        let b = tr.state(i, 10.0, Side::Post);
+        let drift = (a.x - b.x).norm();
+        let turn = a.q.angle_to(&b.q);
+        assert!(
+            drift <= 1e-9 && turn <= 1e-9,
+            "box{i}: {drift} m, {turn} rad"
+        );
+        let z = 0.1 + 0.2 * i as f64;
+        assert!((b.x.z - z).abs() < 1e-3, "box{i} at z = {}", b.x.z);
+    }
+    assert!(tr.counters.islands.get() > 0);
+}
+
+#[test]
+fn a_tower_of_five_settles_and_stands() {
+    let s = tower(5, 0.1, 2e-3, 0.3, 3.0);
+    let tr = run(&s);
+    for i in 0..5 {
+        let t = rests_from(&tr, i).unwrap_or_else(|| panic!("box{i} does not rest"));
+        assert!(t < 2.0, "box{i} rests at {t} s");
+        let x = tr.state(i, 3.0, Side::Post).x;
+        let z = 0.1 + 0.2 * i as f64;
+        assert!(
+            x.xy().norm() < 1e-6 && (x.z - z).abs() < 1e-3,
+            "box{i} at {x:?}"
+        );
+    }
+    let last = tr.events.last().map_or(0.0, |e| e.t);
+    assert!(last < 2.0, "last event at {last} s");
+}
+
+/// The tower of five struck at box `level` by a ball.
+fn struck_tower(level: usize) -> Scene {
+    let mut s = tower(5, 0.1, 2e-3, 0.3, 3.0);
+    // A ball (a quarter of a box's mass, restitution 1) thrown at the top
+    // box, level with its centre when it arrives
+    // at t = 0.5 s (the tower rests from t ≈ 0.05 s).
+    let (r, speed, t_hit) = (0.08, 4.0, 0.5);
+    let z4 = 0.1 + 0.2 * level as f64;
+    let mut ball = testkit::body(
+        "ball",
+        Geometry::sphere(r).unwrap(),
+        Vec3::new(-0.1 - r - speed * t_hit, 0.0, z4),
+    );
+    ball.velocity = Vec3::new(speed, 0.0, 0.5 * G * t_hit);
+    s.bodies[level].restitution = 0.8;
+    s.bodies.push(ball);
+    s.pairs = (0..6)
+        .flat_map(|i| (i + 1..6).map(move |j| [i, j]))
+        .collect();
+    s
+}
+
+#[test]
+fn a_tower_struck_by_a_sphere_falls() {
+    let s = struck_tower(4);
+    let tr = run(&s);
+    let hit = tr
+        .events
+        .iter()
+        .find(|e| e.a == 4 && e.b == nudge::sim::Party::Body(5))
+        .unwrap_or_else(|| panic!("the ball misses"));
+    assert!((hit.t - 0.5).abs() < 0.01, "hit at {}", hit.t);
+    // Settled before the hit; the top box flies off, the boxes at the
+    // bottom stand where they were.
+    for i in 0..5 {
+        assert!(
+            tr.resting(i, hit.t, Side::Pre),
+            "box{i} not resting at the hit"
+        );
+    }
+    let moved =
+        |i: usize| (tr.state(i, 3.0, Side::Post).x - tr.state(i, hit.t, Side::Pre).x).norm();
+    assert!(moved(4) > 0.5, "the top box moved {} m", moved(4));
+    assert!(tr.state(4, 3.0, Side::Post).x.z < 0.5, "the top box fell");
+    for i in 0..3 {
+        assert!(moved(i) < 1e-3, "box{i} moved {} m", moved(i));
+    }
+}
+
+/// A sphere in the hollow between two spheres, all of radius `r` and mass
+/// `m`, the lower centres `2d` apart at height `r`: the contact bodies and
+/// contacts (the upper sphere is body 0).
+fn hollow(r: f64, d: f64, lower_free: bool, mu: f64) -> (Vec<IslandBody>, Vec<IslandContact>) {
+    let h = (4.0 * r * r - d * d).sqrt();
+    let top = Vec3::new(0.0, 0.0, r + h);
+    let mut bodies = vec![IslandBody {
+        com: top,
+        mass: 1.0,
+    }];
+    let mut contacts = Vec::new();
+    for side in [-1.0, 1.0] {
+        let c = Vec3::new(side * d, 0.0, r);
+        let n = (top - c).normalize();
+        let b = if lower_free {
+            bodies.push(IslandBody { com: c, mass: 1.0 });
+            let k = bodies.len() - 1;
+            contacts.push(IslandContact {
+                a: k,
+                b: None,
+                point: Vec3::new(side * d, 0.0, 0.0),
+                normal: Vec3::z(),
+                friction: mu,
+            });
+            Some(k)
+        } else {
+            None
+        };
+        contacts.push(IslandContact {
+            a: 0,
+            b,
+            point: c + n * r,
+            normal: n,
+            friction: mu,
+        });
+    }
+    (bodies, contacts)
+}
+
+#[test]
+fn a_sphere_between_two_fixed_spheres_is_held_by_the_closed_form_forces() {
+    // Frictionless: each contact pushes along its normal with
+    // N = m g / (2 cos θ), θ the normal's angle from the vertical.
+    let (r, d) = (0.05, 0.06);
+    let (bodies, contacts) = hollow(r, d, false, 0.0);
+    let f = contact_forces(&bodies, &contacts, &Vec3::new(0.0, 0.0, -G), r).unwrap();
+    let cos = (4.0 * r * r - d * d).sqrt() / (2.0 * r);
+    for (c, f) in contacts.iter().zip(&f) {
+        let want = c.normal * (G / (2.0 * cos));
+        assert!((f - want).norm() <= 1e-9 * G, "{f:?} vs {want:?}");
+    }
+}
+
+#[test]
+fn a_sphere_between_two_free_spheres_on_a_floor_is_held_by_the_closed_form_forces() {
+    // With friction μ at every contact the forces are determinate: on the
+    // upper sphere each lower one pushes N = m g / 2 along the normal and
+    // T = (m g / 2) tan(θ/2) across it (the lower spheres' torque balance:
+    // T equals the floor's friction; their horizontal balance:
+    // N sin θ = T (1 + cos θ)); the floor carries N₀ = 3 m g / 2 and a
+    // friction T inwards under each.
+    let (r, d) = (0.05, 0.06);
+    let (bodies, contacts) = hollow(r, d, true, 1.0);
+    let f = contact_forces(&bodies, &contacts, &Vec3::new(0.0, 0.0, -G), r).unwrap();
+    let sin = d / (2.0 * r);
+    let cos = (1.0 - sin * sin).sqrt();
+    let tan_half = sin / (1.0 + cos);
+    let w = G;
+    for (c, f) in contacts.iter().zip(&f) {
+        let want = if c.b.is_none() {
+            // Friction points inwards (towards x = 0).
+            Vec3::new(-c.point.x.signum() * 0.5 * w * tan_half, 0.0, 1.5 * w)
+        } else {
+            // Tangent in the plane, upwards-inwards on the upper sphere.
+            let n = c.normal;
+            let t = Vec3::new(n.z * -n.x.signum(), 0.0, n.x.abs());
+            n * (0.5 * w) + t * (0.5 * w * tan_half)
+        };
+        assert!((f - want).norm() <= 1e-9 * w, "{f:?} vs {want:?}");
+    }
+    // Without friction the lower spheres roll apart: not held.
+    let (bodies, contacts) = hollow(r, d, true, 0.0);
+    assert!(contact_forces(&bodies, &contacts, &Vec3::new(0.0, 0.0, -G), r).is_none());
+}
+
+/// Total mechanical energy of the scene's bodies at `t`.
+fn energy(s: &Scene, tr: &Trajectory, t: f64) -> f64 {
+    s.bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let st = tr.state(i, t, Side::Post);
+            let wb = st.q.inverse() * st.w;
+            0.5 * b.mass * st.v.norm_squared()
+                + 0.5 * wb.component_mul(&b.inertia).dot(&wb)
+                + b.mass * G * st.x.z
+        })
+        .sum()
+}
+
+/// N balls in a box at restitution 0.5 and 0.8 run to the end. The energy
+/// bound tested: the total mechanical energy at every event and every
+/// 10 ms never exceeds its start by more than `½ m v_r²` per
+/// micro-collision so far (the floor a micro-collision adds at most;
+/// `v_r = max(rest_speed, √(2 g · 3e-5 · r))`), plus 1e-9 of the start.
+/// Every impact between two moving bodies conserves momentum to 1e-9.
+/// Long enough for the balls to settle (they start up to 1 m high, thrown
+/// up at up to 2 m/s).
+const HORIZON: f64 = 6.0;
+
+#[test]
+fn balls_in_a_box_settle_without_error_and_within_the_energy_budget() {
+    let r = testkit::BALL_RADIUS;
+    for e in [0.5, 0.8] {
+        for n in [1, 4, 16, 64] {
+            let s = testkit::balls_in_box(n, HORIZON, 0, 0x5ca1_ab1e, e).unwrap();
+            let tr = simulate(&s, &Controls::new(&s), &SimOptions::without_tangents())
+                .unwrap_or_else(|err| panic!("N = {n}, e = {e}: {err}"));
+            let m = s.bodies[0].mass;
+            let v_r = s.rest_speed.max((2.0 * G * 3e-5 * r).sqrt());
+            let e0 = energy(&s, &tr, 0.0);
+            let mut times: Vec<f64> = tr.events.iter().map(|ev| ev.t).collect();
+            times.extend((0..=(100.0 * HORIZON) as usize).map(|k| k as f64 * 0.01));
+            times.sort_by(f64::total_cmp);
+            let mut worst: f64 = f64::NEG_INFINITY;
+            for t in times {
+                let micro = tr.events.iter().filter(|ev| ev.t <= t && ev.micro).count();
+                let allowance = micro as f64 * 0.5 * m * v_r * v_r + 1e-9 * e0.abs();
+                let excess = energy(&s, &tr, t) - e0 - allowance;
+                worst = worst.max(excess);
+                assert!(
+                    excess <= 0.0,
+                    "N = {n}, e = {e}: energy up by {excess} J past the allowance at t = {t}"
+                );
+            }
+            for ev in &tr.events {
+                let nudge::sim::Party::Body(j) = ev.b else {
+                    continue;
+                };
+                let moving =
+                    |i: usize| !tr.resting(i, ev.t, Side::Pre) && !tr.resting(i, ev.t, Side::Post);
+                if moving(ev.a) && moving(j) {
+                    let p = |k: usize| ev.pre[k].v + ev.pre[1 - k].v;
+                    let q = |k: usize| ev.post[k].v + ev.post[1 - k].v;
+                    assert!(
+                        (p(0) - q(0)).norm() <= 1e-9 * (1.0 + p(0).norm()),
+                        "N = {n}, e = {e}: momentum at event {}",
+                        ev.index
+                    );
+                }
+            }
+            let resting = (0..n)
+                .filter(|&i| tr.resting(i, HORIZON, Side::Post))
+                .count();
+            eprintln!(
+                "N = {n}, e = {e}: {} events ({} micro), {} islands, {resting} resting at the end, worst excess {worst:.2e} J",
+                tr.events.len(),
+                tr.events.iter().filter(|ev| ev.micro).count(),
+                tr.counters.islands.get()
+            );
+        }
+    }
+}
+
+/// Eight balls dropped in two layers into a box that fits two by two: the
+/// upper ones land on the lower ones (balls on balls, frictionless, held
+/// by the walls). At e = 0.5 all eight rest within 4 s; at e = 0.8 some
+/// upper balls still hop in their hollows (micro-collisions off frozen
+/// balls, frictionless), within the energy allowance and without error.
+#[test]
+fn balls_dropped_in_a_narrow_box_pile_up_and_rest() {
+    let r = testkit::BALL_RADIUS;
+    let half = 2.0 * r + 0.01;
+    for e in [0.5, 0.8] {
+        let mut s = testkit::scene(4.0);
+        s.obstacles.push(testkit::ground());
+        for (name, normal) in [
+            ("wall+x", -Vec3::x()),
+            ("wall-x", Vec3::x()),
+            ("wall+y", -Vec3::y()),
+            ("wall-y", Vec3::y()),
+        ] {
+            let g = Geometry::half_space(normal).unwrap();
+            s.obstacles.push(testkit::obstacle(name, g, -normal * half));
+        }
+        let sphere = Geometry::sphere(r).unwrap();
+        let mut rng = nudge::math::Rng(7);
+        for k in 0..8 {
+            let (sx, sy) = (
+                if k % 2 == 0 { -1.0 } else { 1.0 },
+                if (k / 2) % 2 == 0 { -1.0 } else { 1.0 },
+            );
+            let layer = (k / 4) as f64;
+            let p = Vec3::new(
+                sx * (r + 0.004) + rng.range(-0.002, 0.002),
+                sy * (r + 0.004) + rng.range(-0.002, 0.002),
+                r + 0.02 + layer * 0.15,
+            );
+            let mut b = testkit::body(&format!("ball{k}"), sphere.clone(), p);
+            b.restitution = e;
+            s.bodies.push(b);
+        }
+        s.pairs = (0..8)
+            .flat_map(|i| (i + 1..8).map(move |j| [i, j]))
+            .collect();
+        let tr = simulate(&s, &Controls::new(&s), &SimOptions::without_tangents())
+            .unwrap_or_else(|err| panic!("e = {e}: {err}"));
+        let m = s.bodies[0].mass;
+        let v_r = s.rest_speed.max((2.0 * G * 3e-5 * r).sqrt());
+        let e0 = energy(&s, &tr, 0.0);
+        for ev in &tr.events {
+            let micro = tr.events.iter().filter(|x| x.t <= ev.t && x.micro).count();
+            let allowance = micro as f64 * 0.5 * m * v_r * v_r + 1e-9 * e0.abs();
+            let excess = energy(&s, &tr, ev.t) - e0 - allowance;
+            assert!(
+                excess <= 0.0,
+                "e = {e}: energy up by {excess} J at t = {}",
+                ev.t
+            );
+        }
+        let resting = (0..8).filter(|&i| tr.resting(i, 4.0, Side::Post)).count();
+        let top = (0..8)
+            .map(|i| tr.state(i, 4.0, Side::Post).x.z)
+            .fold(0.0, f64::max);
+        assert!(top < 0.2, "e = {e}: a ball at z = {top}");
+        if e == 0.5 {
+            assert_eq!(resting, 8, "e = {e}");
+            assert!(tr.counters.islands.get() > 0);
+        }
+        eprintln!(
+            "narrow box e = {e}: {} events ({} micro), {} islands, {resting} resting, top at {top}",
+            tr.events.len(),
+            tr.events.iter().filter(|x| x.micro).count(),
+            tr.counters.islands.get()
+        );
+    }
+}
+
+/// The effect is gated: without collisions no island is ever built.
+#[test]
+fn without_collisions_no_island_is_built() {
+    let mut s = tower(2, 0.1, 1e-3, 0.5, 1.0);
+    s.effects.collisions = false;
+    let tr = run(&s);
+    assert!(tr.events.is_empty());
+    assert_eq!(tr.counters.islands.get(), 0);
+    assert!(tr.state(1, 1.0, Side::Post).x.z < 0.0, "falls through");
+}
