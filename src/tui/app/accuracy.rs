@@ -360,3 +360,54 @@ impl App {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::controls::Controls;
+
+    fn bounce() -> Start {
+        let text = include_str!("../../../scenes/bounce.toml");
+        let scene = crate::scene::load_str(text, "scenes/bounce.toml").expect("loads");
+        Start {
+            controls: Controls::new(&scene),
+            scene,
+            constraints: Vec::new(),
+            goal: None,
+        }
+    }
+
+    fn run(cancelled: bool) -> (Result<Measurements, Stopped>, Vec<(usize, usize)>) {
+        let said = Mutex::new(Vec::new());
+        let report = |k, n| {
+            if let Ok(mut s) = said.lock() {
+                s.push((k, n));
+            }
+        };
+        let clock = Ticking::new(STUB_TICK);
+        let result = measure_all(bounce(), &clock, &AtomicBool::new(cancelled), &report);
+        (result, said.into_inner().unwrap_or_default())
+    }
+
+    #[test]
+    fn progress_is_reported_per_setting_and_cancelling_stops_before_the_next() {
+        let (result, said) = run(false);
+        assert_eq!(said, (0..=5).map(|k| (k, 5)).collect::<Vec<_>>());
+        let m = result.expect("measured");
+        assert_eq!(m.rows.iter().filter(|r| r.current).count(), 1);
+        assert!(
+            m.rows[m.selected].current,
+            "the popup opens on the current row"
+        );
+        assert_eq!(m.front.len(), m.rows.len());
+        assert_eq!(
+            run(false).0.ok(),
+            Some(m),
+            "the stub clock makes it reproducible"
+        );
+
+        let (result, said) = run(true);
+        assert_eq!(result, Err(Stopped::Cancelled));
+        assert_eq!(said, [(0, 5)]);
+    }
+}
