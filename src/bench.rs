@@ -24,6 +24,7 @@
 //! Every row is measured on its own: a failure prints in its row and the
 //! run goes on. `--quick` runs fewer repetitions, settings and sizes.
 
+pub(crate) mod accuracy;
 mod cases;
 mod cliffs;
 mod effects;

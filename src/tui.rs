@@ -24,7 +24,7 @@ mod widgets;
 #[cfg(test)]
 pub(crate) mod fixtures;
 
-pub use app::{App, Input, Level, Message, block_is_free};
+pub use app::{App, Input, Level, Message, Timer, block_is_free};
 pub use camera::{Camera, ViewKind};
 pub use command::{Command, CommandError, parse as parse_command};
 pub use format::{NOT_A_NUMBER, num as format_number};

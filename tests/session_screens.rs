@@ -81,3 +81,12 @@ fn the_jacobian_popup_shows_free_flight_sensitivities() {
     assert!(r.contains(" 57.3 "), "{r}");
     assert!(s.contains("egg1 at t=0.075"), "{s}");
 }
+
+/// `:accuracy` on the bounce: five settings around rk4 h=1e-3 measured
+/// against the reference, timed by the headless runner's stub clock (so
+/// the times are fixed), the current one marked, the front highlighted.
+#[test]
+fn accuracy_popup_on_the_bounce() {
+    let s = screen("scenes/bounce.toml", ":accuracy<Enter>", (80, 24));
+    insta::assert_snapshot!(s);
+}

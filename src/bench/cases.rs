@@ -1,11 +1,11 @@
 //! The paper's scenes as benchmark cases, each with its tight reference
 //! run and the time at which Jacobians are compared.
 
+use super::measure::{Clock, Wall};
 use crate::controls::Controls;
 use crate::scene::{Accuracy, Method, Scene, load_str};
 use crate::sim::{Side, SimOptions, Trajectory, simulate};
 use crate::testkit;
-use std::time::Instant;
 
 /// The scenes of the paper (Popović et al. 2000, §3.2, §5, §6), compiled
 /// in so the benchmark does not depend on the working directory.
@@ -84,6 +84,8 @@ impl Case {
 /// The tight reference run of a case.
 #[derive(Debug, Clone)]
 pub(crate) struct Reference {
+    /// The reference setting.
+    pub accuracy: Accuracy,
     /// With tangents.
     pub traj: Trajectory,
     /// Which reference and why, e.g. `dopri5 tol=1e-12 root=1e-14 (78 ms; rk4 h=1e-4 147 ms)`.
@@ -131,16 +133,17 @@ pub(crate) fn paper() -> Vec<Entry> {
         .collect()
 }
 
-/// Simulate the faster of the reference accuracies with tangents.
-pub(crate) fn reference(case: &Case) -> Result<Reference, String> {
+/// Simulate the faster of the reference accuracies (timed on `clock`)
+/// with tangents.
+pub(crate) fn reference(case: &Case, clock: &dyn Clock) -> Result<Reference, String> {
     let mut tried: Vec<(Accuracy, Result<f64, String>)> = Vec::new();
     for acc in REFERENCES {
         let s = case.with_accuracy(acc);
-        let t = Instant::now();
+        let t = clock.now();
         let r = simulate(&s, &case.controls, &SimOptions::without_tangents());
         tried.push((
             acc,
-            r.map(|_| t.elapsed().as_secs_f64() * 1e3)
+            r.map(|_| clock.now().saturating_sub(t).as_secs_f64() * 1e3)
                 .map_err(|e| e.to_string()),
         ));
     }
@@ -184,7 +187,11 @@ pub(crate) fn reference(case: &Case) -> Result<Reference, String> {
         super::table::ms(own),
         others.join(", ")
     );
-    Ok(Reference { traj, note })
+    Ok(Reference {
+        accuracy,
+        traj,
+        note,
+    })
 }
 
 /// The comparison time for a case: the final time when tangents exist to
@@ -234,9 +241,14 @@ pub(crate) fn drag_time(case: &Case, default: &Trajectory, t_eval: f64) -> f64 {
 
 /// Reference run and evaluation time of a case.
 pub(crate) fn prepare(case: &Case) -> Result<Prepared, String> {
+    prepare_with(case, &Wall::new())
+}
+
+/// [`prepare`], the reference runs timed on `clock`.
+pub(crate) fn prepare_with(case: &Case, clock: &dyn Clock) -> Result<Prepared, String> {
     let default = simulate(&case.scene, &case.controls, &SimOptions::default())
         .map_err(|e| format!("default run: {e}"))?;
-    let reference = reference(case)?;
+    let reference = reference(case, clock)?;
     let (t_eval, eval_note) = evaluation_time(case, &default, &reference.traj);
     let t_drag = drag_time(case, &default, t_eval);
     Ok(Prepared {

@@ -2,8 +2,64 @@
 //! count or a time budget is reached; the median is reported with the
 //! repetition count.
 
+use std::cell::Cell;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::{Duration, Instant};
+
+/// Where timings come from: the wall clock, or a deterministic stub in
+/// tests and headless replays (whose screens must not depend on timing).
+pub trait Clock {
+    /// Time since an arbitrary origin; never decreases.
+    fn now(&self) -> Duration;
+}
+
+/// The monotonic wall clock.
+#[derive(Debug, Clone, Copy)]
+pub struct Wall(pub Instant);
+
+impl Wall {
+    pub fn new() -> Wall {
+        Wall(Instant::now())
+    }
+}
+
+impl Default for Wall {
+    fn default() -> Wall {
+        Wall::new()
+    }
+}
+
+impl Clock for Wall {
+    fn now(&self) -> Duration {
+        self.0.elapsed()
+    }
+}
+
+/// A stub clock: the k-th reading is `k² · tick`, so each timed call
+/// takes a little longer than the one before. Reproducible, and the
+/// settings measured one after another get distinct times.
+#[derive(Debug, Clone)]
+pub struct Ticking {
+    pub tick: Duration,
+    readings: Cell<u32>,
+}
+
+impl Ticking {
+    pub fn new(tick: Duration) -> Ticking {
+        Ticking {
+            tick,
+            readings: Cell::new(0),
+        }
+    }
+}
+
+impl Clock for Ticking {
+    fn now(&self) -> Duration {
+        let k = self.readings.get();
+        self.readings.set(k.saturating_add(1));
+        self.tick.saturating_mul(k.saturating_mul(k))
+    }
+}
 
 /// How much effort a run spends per measurement.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,11 +124,20 @@ pub(crate) fn median(v: &[f64]) -> f64 {
 /// and the last call's value; the first error stops the measurement.
 pub(crate) fn measure<T, E>(
     plan: &Plan,
+    f: impl FnMut() -> Result<T, E>,
+) -> Result<(Timing, T), E> {
+    measure_with(plan, &Wall::new(), f)
+}
+
+/// [`measure`] on `clock`.
+pub(crate) fn measure_with<T, E>(
+    plan: &Plan,
+    clock: &dyn Clock,
     mut f: impl FnMut() -> Result<T, E>,
 ) -> Result<(Timing, T), E> {
-    let start = Instant::now();
+    let start = clock.now();
     let mut last = f()?;
-    let warm = start.elapsed();
+    let warm = clock.now().saturating_sub(start);
     let mut samples = Vec::new();
     let mut spent = Duration::ZERO;
     if warm > plan.budget {
@@ -80,9 +145,9 @@ pub(crate) fn measure<T, E>(
         spent = warm;
     }
     while samples.len() < plan.max_reps && (samples.len() < plan.min_reps || spent < plan.budget) {
-        let t = Instant::now();
+        let t = clock.now();
         let value = f()?;
-        let e = t.elapsed();
+        let e = clock.now().saturating_sub(t);
         last = value;
         spent += e;
         samples.push(e.as_secs_f64() * 1e3);
@@ -179,6 +244,20 @@ mod tests {
         assert_eq!(count(&plan), (3, 3, 3));
         let r: Result<(Timing, ()), &str> = measure(&plan, || Err("boom"));
         assert_eq!(r.err(), Some("boom"));
+    }
+
+    #[test]
+    fn the_stub_clock_makes_timings_reproducible() {
+        let plan = Plan::new(true);
+        let time = || {
+            let clock = Ticking::new(Duration::from_millis(1));
+            measure_with(&plan, &clock, || Ok::<_, ()>(())).map(|(t, ())| t)
+        };
+        let t = time();
+        assert_eq!(t, time());
+        // Readings 0, 1, 4, 9, 16 ms...: the warm-up takes 1 ms, then 5, 9,
+        // 13... until the 120 ms budget is spent.
+        assert_eq!(t.map(|t| t.reps).ok(), Some(8));
     }
 
     #[test]

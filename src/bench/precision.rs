@@ -3,61 +3,18 @@
 //! against the reference run, versus the median time of one differential
 //! update (a drag constraint's solve and its trial simulations with
 //! tangents, from the current motion, as in the editor).
+//!
+//! The measurement of one setting is [`super::accuracy`]'s, shared with
+//! the editor's `:accuracy` popup.
 
-use super::cases::{
-    ADAPTIVE_MAX_STEP, Case, DRAG_OFFSET, Entry, Prepared, accuracy_label, agreeing,
-    final_state_error, signature_until,
-};
-use super::fd::{relative_error, stacked};
-use super::measure::{Plan, Timing, guarded, measure};
+use super::accuracy::{Measured, Wall, front, measure_setting, point};
+use super::cases::{ADAPTIVE_MAX_STEP, DRAG_OFFSET, Entry, accuracy_label};
+use super::measure::{Plan, guarded};
 use super::plot::{Series, loglog};
-use super::table::{Align, Table, csv_field, ms, sci};
-use crate::scene::{Accuracy, Method, StateQuantity};
-use crate::sim::{Side, SimOptions, Trajectory, simulate};
-use crate::solve::{Anchor, Constraint, Kind, UpdateOptions, update};
+use super::table::{Align, Table, csv_field, ms};
+use crate::scene::{Accuracy, Method};
 use std::io::{self, Write};
 use std::path::Path;
-
-/// An error, or why there is no number.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Error {
-    Value(f64),
-    /// The collision sequence differs from the reference: `agree` of the
-    /// reference's `total` events match in order.
-    DifferentEvents {
-        agree: usize,
-        total: usize,
-    },
-    Unavailable(String),
-}
-
-impl Error {
-    fn cell(&self) -> String {
-        match self {
-            Error::Value(v) => sci(*v),
-            Error::DifferentEvents { agree, total } => {
-                format!("different events ({agree}/{total})")
-            }
-            Error::Unavailable(_) => "—".into(),
-        }
-    }
-
-    fn csv(&self) -> String {
-        match self {
-            Error::Value(v) if v.is_finite() => format!("{v:e}"),
-            Error::Value(_) => String::new(),
-            Error::DifferentEvents { .. } => "different events".into(),
-            Error::Unavailable(m) => m.clone(),
-        }
-    }
-
-    fn value(&self) -> Option<f64> {
-        match self {
-            Error::Value(v) if v.is_finite() => Some(*v),
-            _ => None,
-        }
-    }
-}
 
 /// One measured setting.
 #[derive(Debug, Clone)]
@@ -66,18 +23,6 @@ pub(crate) struct Row {
     pub accuracy: Accuracy,
     pub default: bool,
     pub result: Result<Measured, String>,
-}
-
-#[derive(Debug, Clone)]
-pub(crate) struct Measured {
-    pub state: Error,
-    pub jacobian: Error,
-    /// One simulation with tangents.
-    pub simulation: Timing,
-    /// One simulation with tangents and one differential update.
-    pub update: Timing,
-    /// Diagnostics of the timed update (e.g. a pop), shown in the notes.
-    pub diagnostics: Vec<String>,
 }
 
 /// The settings measured for a scene: RK4 steps, adaptive tolerances and
@@ -133,83 +78,6 @@ pub(crate) fn settings(quick: bool, default: Accuracy) -> Vec<(Accuracy, bool)> 
     out
 }
 
-/// A drag of body 0 at `t` by `DRAG_OFFSET` in x and z from where it is.
-pub(crate) fn drag(traj: &Trajectory, t: f64) -> Constraint {
-    let x = traj.state(0, t, Side::Post).x;
-    Constraint {
-        body: 0,
-        anchor: Anchor::Time(t),
-        kind: Kind::State {
-            quantities: vec![StateQuantity::Position],
-            target: vec![x.x + DRAG_OFFSET, x.y, x.z + DRAG_OFFSET],
-        },
-        drag: true,
-    }
-}
-
-fn measure_setting(
-    plan: &Plan,
-    case: &Case,
-    prep: &Prepared,
-    accuracy: Accuracy,
-) -> Result<Measured, String> {
-    let scene = case.with_accuracy(accuracy);
-    let controls = &case.controls;
-    let (t, t_drag) = (prep.t_eval, prep.t_drag);
-    let (simulation, traj) = measure(plan, || simulate(&scene, controls, &SimOptions::default()))
-        .map_err(|e| e.to_string())?;
-    // An update as the editor runs it: the current motion (with tangents)
-    // is the previous update's accepted trial, so the timed work is the
-    // solve plus its trial simulations with tangents.
-    let (timing, diagnostics) = measure(plan, || {
-        let r = update(
-            &scene,
-            controls,
-            &traj,
-            &[drag(&traj, t_drag)],
-            &UpdateOptions::default(),
-        )
-        .map_err(|e| format!("update: {e}"))?;
-        Ok::<_, String>(
-            r.diagnostics
-                .iter()
-                .map(ToString::to_string)
-                .collect::<Vec<_>>(),
-        )
-    })?;
-    let reference = &prep.reference.traj;
-    let (sig, rsig) = (traj.signature(), reference.signature());
-    let state = if sig == rsig {
-        Error::Value(final_state_error(&traj, reference))
-    } else {
-        Error::DifferentEvents {
-            agree: agreeing(&sig, &rsig),
-            total: rsig.len(),
-        }
-    };
-    let (psig, prsig) = (signature_until(&traj, t), signature_until(reference, t));
-    let jacobian = if psig != prsig {
-        Error::DifferentEvents {
-            agree: agreeing(&psig, &prsig),
-            total: prsig.len(),
-        }
-    } else {
-        match (stacked(&traj, t), stacked(reference, t)) {
-            (Ok(j), Ok(jr)) => relative_error(&j, &jr, &vec![true; j.ncols()])
-                .map(Error::Value)
-                .unwrap_or_else(|| Error::Unavailable("no Jacobian".into())),
-            (Err(e), _) | (_, Err(e)) => Error::Unavailable(e.to_string()),
-        }
-    };
-    Ok(Measured {
-        state,
-        jacobian,
-        simulation,
-        update: timing,
-        diagnostics,
-    })
-}
-
 /// Measure every setting of every paper scene.
 pub(crate) fn rows(plan: &Plan, entries: &[Entry]) -> Vec<Row> {
     let mut rows = Vec::new();
@@ -228,7 +96,7 @@ pub(crate) fn rows(plan: &Plan, entries: &[Entry]) -> Vec<Row> {
             (_, None) => continue,
         };
         for (accuracy, default) in settings(plan.quick, case.scene.accuracy) {
-            let result = guarded(|| measure_setting(plan, case, prep, accuracy));
+            let result = guarded(|| measure_setting(plan, &Wall::new(), case, prep, &[], accuracy));
             rows.push(Row {
                 scene: e.name,
                 accuracy,
@@ -240,34 +108,16 @@ pub(crate) fn rows(plan: &Plan, entries: &[Entry]) -> Vec<Row> {
     rows
 }
 
-/// State errors below this are round-off: equally accurate for the front.
-const ROUNDOFF: f64 = 1e-13;
-/// "More accurate" means a smaller error by at least this factor ...
-const ACCURACY_MARGIN: f64 = 2.0;
-/// ... and "faster" a shorter median update by at least this fraction, so
-/// timing noise and round-off differences do not move the front. Rows are
-/// timed one after another, and on this project's 2-core VM the same row's
-/// median moves by up to about 20 % from run to run (at 10 % the front
-/// changed between two runs of the same build).
-const SPEED_MARGIN: f64 = 0.25;
-
-/// Whether a row is on its scene's Pareto front: no other setting of the
-/// scene is both faster per update and more accurate in the final state
-/// (by the margins above). `None` when the row has no numeric state error.
+/// Whether a row is on its scene's Pareto front ([`front`]): no other
+/// setting of the scene is both faster per update and more accurate in the
+/// final state. `None` when the row has no numeric state error.
 fn pareto(rows: &[Row], k: usize) -> Option<bool> {
-    let me = rows[k].result.as_ref().ok()?;
-    let err = me.state.value()?.max(ROUNDOFF);
-    let dominated = rows.iter().enumerate().any(|(j, r)| {
-        j != k
-            && r.scene == rows[k].scene
-            && r.result.as_ref().ok().is_some_and(|o| {
-                o.update.ms < (1.0 - SPEED_MARGIN) * me.update.ms
-                    && o.state
-                        .value()
-                        .is_some_and(|e| ACCURACY_MARGIN * e.max(ROUNDOFF) <= err)
-            })
-    });
-    Some(!dominated)
+    let mine: Vec<usize> = (0..rows.len())
+        .filter(|&j| rows[j].scene == rows[k].scene)
+        .collect();
+    let points: Vec<Option<(f64, f64)>> = mine.iter().map(|&j| point(&rows[j].result)).collect();
+    let at = mine.iter().position(|&j| j == k)?;
+    front(&points).get(at).copied().flatten()
 }
 
 fn method_setting(a: &Accuracy) -> (&'static str, String) {
@@ -497,6 +347,9 @@ mod tests {
         assert_eq!(s.len(), 14, "4 steps + 3 tolerances, at 2 root tolerances");
         assert_eq!(s.iter().filter(|(_, def)| *def).count(), 1);
     }
+
+    use crate::bench::accuracy::Error;
+    use crate::bench::measure::Timing;
 
     fn row(ms: f64, state: Error) -> Row {
         let t = Timing { ms, reps: 1 };

@@ -142,6 +142,7 @@ pub fn run_script_with<S: Copy + Into<Step>>(
     let (w, h) = size;
     let mut app = App::new(&core.view(), Rect::new(0, 0, w, h), Theme::COLOR);
     app.show_render_ms = false;
+    app.timer = crate::tui::Timer::Stub;
     let mut terminal = match Terminal::new(TestBackend::new(w, h)) {
         Ok(t) => t,
         Err(never) => match never {},

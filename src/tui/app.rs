@@ -25,10 +25,12 @@ use crate::view::{ControlRow, View};
 use ratatui::layout::Rect;
 use std::time::Instant;
 
+mod accuracy;
 mod commands;
 mod explore;
 mod mouse;
 
+pub use accuracy::{Measurements, Measuring, Timer};
 pub use explore::Exploring;
 
 /// Where keys go.
@@ -114,12 +116,16 @@ pub struct App {
     pub mouse: bool,
     /// Whether the motion before the last edit is drawn (`g`).
     pub show_ghost: bool,
+    /// What times `:accuracy` (a stub in headless runs).
+    pub timer: Timer,
     /// Every message so far, oldest first (at most [`LOG_LIMIT`]).
     log: Vec<Message>,
     /// The cell where the current mouse drag was last seen.
     drag: Option<(u16, u16)>,
     /// An exploration running in the background, or its alternatives.
     exploring: Exploring,
+    /// `:accuracy` measuring in the background, or its results.
+    measuring: Measuring,
     /// The Jacobian columns shown by the open `:jacobian` popup.
     sensitivity: Option<Result<crate::view::Sensitivity, String>>,
     /// The last command line that did not parse, until taken.
@@ -166,11 +172,13 @@ impl App {
             render_ms: None,
             mouse: true,
             show_ghost: true,
+            timer: Timer::Wall,
             log: Vec::new(),
             drag: None,
             command_error: None,
             sensitivity: None,
             exploring: Exploring::Idle,
+            measuring: Measuring::Idle,
             pending: None,
             rk4_step: accuracy.window(),
             tolerance: 1e-9,
@@ -408,7 +416,7 @@ impl App {
                 self.set_block(core, view.selected, block, free);
             }
             Action::Cancel => {
-                if self.input == Input::Normal {
+                if self.input == Input::Normal && !self.cancel_accuracy() {
                     self.cancel_exploring();
                     if let Some(stopped) = core.stop() {
                         self.say_info(stopped);
@@ -418,6 +426,8 @@ impl App {
                 self.drag = None;
             }
             Action::Explore => self.explore(core, EXPLORE_SAMPLES),
+            Action::Accuracy => self.measure_accuracy(core),
+            Action::PickAccuracy => self.pick_accuracy(core),
             Action::Alternative(sense) => self.step_alternative(sense),
             Action::AcceptAlternative => self.accept_alternative(core),
             Action::ToggleGhost => {
@@ -496,6 +506,10 @@ impl App {
             }
             Action::Scroll(sense) => {
                 if let Input::Popup { kind, scroll } = self.input {
+                    if kind == PopupKind::Accuracy {
+                        self.step_accuracy(sense, count);
+                        return;
+                    }
                     let step = u16::try_from(count).unwrap_or(u16::MAX);
                     // Clamped, so scrolling back after overshooting the end
                     // moves at once.
@@ -642,6 +656,7 @@ impl App {
             log: &self.log,
             notes,
             sensitivity: self.sensitivity.as_ref(),
+            accuracy: self.measurements(),
         }
     }
 

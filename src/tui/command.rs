@@ -89,6 +89,8 @@ pub enum Command {
     Notes,
     /// `:jacobian`: how each free control moves the body now.
     Jacobian,
+    /// `:accuracy`: measure the accuracy settings around the current one.
+    Accuracy,
     /// `:explore [N]`: sample N worlds in the background.
     Explore(usize),
     /// `:export PATH.glb`: the motion as binary glTF.

@@ -142,6 +142,7 @@ fn times(n: usize) -> Vec<f64> {
 pub fn app(view: &View, w: u16, h: u16) -> App {
     let mut app = App::new(view, Rect::new(0, 0, w, h), Theme::PLAIN);
     app.show_render_ms = false;
+    app.timer = crate::tui::app::Timer::Stub;
     app
 }
 

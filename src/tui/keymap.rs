@@ -42,7 +42,7 @@ impl Context {
             Context::Normal => "editing",
             Context::Block => "after b: control block",
             Context::Command => "command line (:)",
-            Context::Help => "popups (?, M, I, :notes)",
+            Context::Help => "popups (?, M, I, A, :notes)",
             Context::Prompt => "quit prompt (unsaved edits)",
             Context::Explore => "alternatives (after X or :explore; other keys as editing)",
         }
@@ -165,6 +165,10 @@ pub enum Action {
     Alternative(Sense),
     /// Take the alternative shown.
     AcceptAlternative,
+    /// Measure the accuracy settings around the current one.
+    Accuracy,
+    /// Make the setting chosen in the accuracy popup the scene's.
+    PickAccuracy,
     /// Quit (asks first when there are unsaved edits).
     Quit,
     /// Quit and discard unsaved edits (from the prompt).
@@ -234,6 +238,8 @@ impl Action {
             Action::Explore => "Explore",
             Action::Alternative(_) => "Alternative",
             Action::AcceptAlternative => "AcceptAlternative",
+            Action::Accuracy => "Accuracy",
+            Action::PickAccuracy => "PickAccuracy",
             Action::Quit => "Quit",
             Action::ConfirmQuit => "ConfirmQuit",
             Action::SaveQuit => "SaveQuit",
@@ -282,6 +288,8 @@ impl Action {
             Action::Explore,
             Action::Alternative(Sense::Back),
             Action::AcceptAlternative,
+            Action::Accuracy,
+            Action::PickAccuracy,
             Action::Quit,
             Action::ConfirmQuit,
             Action::SaveQuit,
@@ -430,6 +438,7 @@ pub static KEYMAP: &[Binding] = &[
     hint(ch('?'), Nrm, Action::Popup(PopupKind::Help), "this help", "help"),
     bind(ch('M'), Nrm, Action::Popup(PopupKind::Messages), "every message so far (:messages)"),
     bind(ch('I'), Nrm, Action::Popup(PopupKind::Jacobian), "how each free control moves the body (:jacobian)"),
+    bind(ch('A'), Nrm, Action::Accuracy, "cost and error of nearby accuracies (:accuracy)"),
     hint(ch('q'), Nrm, Action::Quit, "quit (asks when there are unsaved edits)", "quit"),
     bind(code(KeyCode::Esc), Nrm, Action::Cancel, "cancel a count, a drag or a settle; never quits"),
     // After `b`.
@@ -452,6 +461,7 @@ pub static KEYMAP: &[Binding] = &[
     bind(code(KeyCode::Up), Hlp, Action::Scroll(Sense::Back), "scroll up"),
     bind(code(KeyCode::PageDown), Hlp, Action::Scroll(Sense::Forward), "scroll down"),
     bind(code(KeyCode::PageUp), Hlp, Action::Scroll(Sense::Back), "scroll up"),
+    bind(code(KeyCode::Enter), Hlp, Action::PickAccuracy, "pick the setting chosen (A; u undoes)"),
     hint(ch('?'), Hlp, Action::Cancel, "close", "close"),
     bind(ch('q'), Hlp, Action::Cancel, "close"),
     bind(code(KeyCode::Esc), Hlp, Action::Cancel, "close"),

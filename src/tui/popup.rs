@@ -1,9 +1,10 @@
 //! What the popups say: the key help (`?`), the message log (`M`,
-//! `:messages`) and the scene's notes (`:notes`), as lines wrapped to the
+//! `:messages`), the scene's notes (`:notes`), the Jacobian (`I`) and the
+//! measured accuracy settings (`A`, [`accuracy`]), as lines wrapped to the
 //! popup's width. The App scrolls them and the widget draws them, both from
 //! here, so the two always agree on how long a popup is.
 
-use super::app::Message;
+use super::app::{Measurements, Message};
 use super::command::{COMMAND_NOTES, usage_rows};
 use super::format::{num, short_control_name};
 use super::keymap::{Context, help_rows};
@@ -12,6 +13,8 @@ use super::theme::Theme;
 use crate::view::Sensitivity;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
+
+mod accuracy;
 
 /// Which popup is open.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -24,6 +27,8 @@ pub enum PopupKind {
     Notes,
     /// How each free control moves the selected body now.
     Jacobian,
+    /// Accuracy settings around the current one: error and cost.
+    Accuracy,
 }
 
 /// What the popups show besides the tables: the App's message log, the
@@ -33,6 +38,8 @@ pub struct PopupData<'a> {
     pub log: &'a [Message],
     pub notes: &'a str,
     pub sensitivity: Option<&'a Result<Sensitivity, String>>,
+    /// The settings `:accuracy` measured.
+    pub accuracy: Option<&'a Measurements>,
 }
 
 impl PopupKind {
@@ -43,6 +50,7 @@ impl PopupKind {
             PopupKind::Messages => " messages: j/k scroll, Esc closes ",
             PopupKind::Notes => " scene notes: j/k scroll, Esc closes ",
             PopupKind::Jacobian => " how the free controls move the body: j/k, Esc ",
+            PopupKind::Accuracy => " accuracy: j/k choose, Enter picks, Esc closes ",
         }
     }
 }
@@ -59,6 +67,10 @@ pub fn lines(kind: PopupKind, data: PopupData, theme: Theme, area: Rect) -> Vec<
             Some(Ok(s)) => sensitivity_lines(s, theme, width),
             Some(Err(why)) => wrap(why, width).into_iter().map(Line::raw).collect(),
             None => vec![Line::styled("nothing to show", theme.dim())],
+        },
+        PopupKind::Accuracy => match data.accuracy {
+            Some(m) => accuracy::lines(m, theme, width),
+            None => vec![Line::styled("nothing measured", theme.dim())],
         },
         PopupKind::Help => help_lines(theme),
         PopupKind::Messages if log.is_empty() => vec![Line::styled("no messages yet", theme.dim())],
@@ -252,6 +264,7 @@ mod tests {
             log,
             notes: "",
             sensitivity: None,
+            accuracy: None,
         };
         assert_eq!(
             max_scroll(PopupKind::Messages, data(&log), area),

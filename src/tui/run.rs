@@ -165,8 +165,8 @@ pub fn event_loop<B: Backend, C: Core, E: EventSource>(
         }
         let timeout = if app.playing {
             FRAME.saturating_sub(last_tick.elapsed())
-        } else if app.exploring() {
-            // Progress of the background exploration on the status line.
+        } else if app.busy() {
+            // Progress of the background work on the status line.
             EXPLORE_POLL
         } else {
             IDLE

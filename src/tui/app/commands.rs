@@ -372,6 +372,7 @@ impl App {
             Command::Messages => self.open(PopupKind::Messages),
             Command::Notes => self.open(PopupKind::Notes),
             Command::Explore(n) => self.explore(core, n),
+            Command::Accuracy => self.measure_accuracy(core),
             Command::Export(path) => match core.export_gltf(&path, crate::export::DEFAULT_FPS) {
                 Ok(bytes) => self.say(
                     Level::Info,

@@ -147,10 +147,17 @@ impl App {
         matches!(self.exploring, Exploring::Running(_))
     }
 
+    /// Take what the background work (exploring, `:accuracy`) has said
+    /// since the last call. Returns whether the screen changed.
+    pub fn poll_background(&mut self) -> bool {
+        let explored = self.poll_exploring();
+        self.poll_accuracy() || explored
+    }
+
     /// Take what the background exploration has said since the last call:
     /// progress on the status line, or its alternatives. Returns whether
     /// the screen changed.
-    pub fn poll_background(&mut self) -> bool {
+    fn poll_exploring(&mut self) -> bool {
         let Exploring::Running(job) = &self.exploring else {
             return false;
         };
@@ -222,8 +229,9 @@ impl App {
                     *t = None;
                 }
             }
-            self.poll_background();
+            self.poll_exploring();
         }
+        self.wait_accuracy();
     }
 
     /// Esc while exploring: stop after the current batch.

@@ -195,6 +195,11 @@ pub const COMMANDS: &[CommandSpec] = &[
         },
     },
     CommandSpec {
+        names: &["accuracy", "acc"],
+        usage: &[(":accuracy", "cost and error of nearby accuracies (A)")],
+        parse: |w, _, _| w.no_more(1).map(|()| Command::Accuracy),
+    },
+    CommandSpec {
         names: &["export"],
         usage: &[(":export out.glb", "the motion as glTF (y up) for Blender")],
         parse: |w, _, rest| match path(rest) {

@@ -47,6 +47,7 @@ mod tests {
             log: &[],
             notes: "",
             sensitivity: None,
+            accuracy: None,
         };
         (&Popup {
             kind: PopupKind::Help,

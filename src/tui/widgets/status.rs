@@ -6,6 +6,7 @@ use crate::scene::StateQuantity;
 use crate::tui::app::{App, Input, Level};
 use crate::tui::format::{ms, num, scrub, truncate};
 use crate::tui::keymap::{self, Context};
+use crate::tui::popup::PopupKind;
 use crate::view::View;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
@@ -165,6 +166,10 @@ impl Widget for &BottomLine<'_> {
                     width,
                 )
             }
+            Input::Popup {
+                kind: PopupKind::Accuracy,
+                ..
+            } => self.hints(Context::Help, "Enter picks (u undoes)  ", width),
             Input::Popup { .. } => self.hints(Context::Help, "", width),
             Input::Normal => {
                 let core_message = v
