@@ -20,6 +20,7 @@ mod integrator;
 mod jet;
 mod rest;
 mod run;
+mod settle;
 mod state;
 mod statics;
 mod trajectory;
