@@ -21,6 +21,7 @@ pub mod island;
 mod jet;
 mod rest;
 mod run;
+mod settle;
 mod state;
 mod statics;
 mod trajectory;

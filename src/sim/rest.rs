@@ -25,7 +25,8 @@
 //!    scissors wedged against a wall by friction is. (The old rule froze
 //!    any body whose contact point separated slower than the rest speed,
 //!    leaving spinning, tumbling bodies frozen tilted on one corner, or
-//!    mid-air against walls.)
+//!    mid-air against walls.) A body lying on a face is then put on it
+//!    exactly (`sim::settle`), here and when it slides.
 //! 2. **Slide** — against a half-space only: the normal speeds of all
 //!    support points are below `v_r` and the centre of mass projects (along
 //!    the plane normal) into their hull, which is a face (three or more
@@ -170,7 +171,7 @@ pub(crate) fn pair_friction(scene: &Scene, body: usize, obstacle: usize) -> f64 
 }
 
 /// The support points of a body on one obstacle.
-fn supports(
+pub(crate) fn supports(
     scene: &Scene,
     body: usize,
     obstacle: usize,

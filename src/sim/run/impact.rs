@@ -308,6 +308,22 @@ impl Sim<'_> {
             }
             Mode::Bounce => {}
         }
+        // A body that rests or slides lying on a face lies on it exactly
+        // (see `sim::settle`); a frozen body held in place stays as it is.
+        let settled = match &mode {
+            _ if anchored && frozen_a => None,
+            Mode::Rest => Some((0..scene.obstacles.len()).collect::<Vec<_>>()),
+            Mode::Slide { slide: sl, .. } => Some(vec![sl.obstacle]),
+            Mode::Bounce => None,
+        }
+        .and_then(|among| {
+            let d = &self.traj.dynamics[a];
+            let band = rest::thresholds(scene, d, &self.traj.gravity, self.tol.arm).1;
+            crate::sim::settle::onto_face(scene, a, &post_a, &among, band, d.reach)
+        });
+        if let Some(s) = &settled {
+            post_a = s.state;
+        }
         let post_b = sb.map(|s| {
             if b_rests || (anchored && frozen_b) {
                 BodyState {
@@ -394,6 +410,9 @@ impl Sim<'_> {
                     }
                 }
             }
+        }
+        if let Some(s) = &settled {
+            s.project(&mut ja);
         }
         // A contact on a surface beyond the finite numbers (a parabola of
         // curvature 1e308) gives a NaN normal: a typed error, never an
