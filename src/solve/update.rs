@@ -81,6 +81,9 @@ pub enum SolveError {
     NonFinite,
 }
 
+/// Candidates simulated together when sampling across a pop.
+const SAMPLE_BATCH: usize = 8;
+
 /// Options of one differential update.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UpdateOptions {
@@ -571,14 +574,29 @@ pub fn update(
             )
         })
         .collect();
+    // In batches, in order, stopping after the first batch whose best
+    // halves the residual: a pop then costs one batch's simulations (a
+    // frame's worth on two cores) unless the jump is hard to find. The
+    // batches do not depend on the number of threads, nor does the result.
     let sampling = crate::profile::span(crate::profile::Part::Sampling);
-    let best = candidates
-        .par_iter()
-        .filter_map(|dv| {
-            trial(scene, controls, &(&u0 + dv), constraints, false, until)
-                .map(|(res, tr)| (res, dv.clone(), tr))
-        })
-        .min_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best: Option<(f64, DVector<f64>, Trajectory)> = None;
+    for batch in candidates.chunks(SAMPLE_BATCH) {
+        let found = batch
+            .par_iter()
+            .filter_map(|dv| {
+                trial(scene, controls, &(&u0 + dv), constraints, false, until)
+                    .map(|(res, tr)| (res, dv.clone(), tr))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some(f) = found
+            && best.as_ref().is_none_or(|b| f.0 < b.0)
+        {
+            best = Some(f);
+        }
+        if best.as_ref().is_some_and(|b| b.0 <= 0.5 * before) {
+            break;
+        }
+    }
     drop(sampling);
     match best {
         Some((res, dv, tr)) if res < before => {
