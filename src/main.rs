@@ -80,6 +80,9 @@ enum Command {
         /// Seed of the sampler: the same seed gives the same alternatives.
         #[arg(long, default_value_t = ExploreOptions::default().seed)]
         seed: u64,
+        /// Most alternatives printed (the best collision sequences first).
+        #[arg(long, default_value_t = ExploreOptions::default().keep)]
+        keep: usize,
         /// Print the alternatives as one JSON object.
         #[arg(long)]
         json: bool,
@@ -175,8 +178,9 @@ fn real_main() -> Result<()> {
             keys,
             samples,
             seed,
+            keep,
             json,
-        }) => explore(&scene, keys.as_deref(), samples, seed, json),
+        }) => explore(&scene, keys.as_deref(), (samples, seed, keep), json),
         Some(Command::Export {
             scene,
             gltf,
@@ -309,7 +313,13 @@ fn replay(path: &Path, keys: &Path) -> Result<Editor> {
     Ok(editor)
 }
 
-fn explore(path: &Path, keys: Option<&Path>, samples: usize, seed: u64, json: bool) -> Result<()> {
+/// `nudge explore`; `sampling` is (samples, seed, keep).
+fn explore(
+    path: &Path,
+    keys: Option<&Path>,
+    (samples, seed, keep): (usize, u64, usize),
+    json: bool,
+) -> Result<()> {
     let editor = match keys {
         Some(k) => replay(path, k)?,
         None => {
@@ -321,6 +331,7 @@ fn explore(path: &Path, keys: Option<&Path>, samples: usize, seed: u64, json: bo
     let opts = ExploreOptions {
         samples,
         seed,
+        keep,
         ..ExploreOptions::default()
     };
     let found = nudge::explore::run(&Start::from_editor(&editor), &opts, &Progress::default())?;

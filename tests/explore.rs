@@ -388,6 +388,25 @@ fn the_cli_explores_after_the_keys_and_refuses_bad_input() {
         assert!(a["signature"].is_array());
     }
 
+    // --keep prints the best few of the same exploration.
+    let kept = nudge_cli(&[
+        "explore",
+        "scenes/particle-polygon.toml",
+        "--keys",
+        "tests/fixtures/explore/polygon-blocked.keys",
+        "--samples",
+        "256",
+        "--seed",
+        "7",
+        "--keep",
+        "1",
+        "--json",
+    ]);
+    let k: serde_json::Value = serde_json::from_slice(&kept.stdout).expect("JSON");
+    let first = k["alternatives"].as_array().expect("alternatives");
+    assert_eq!(first.len(), 1);
+    assert_eq!(first[0]["controls"], alts[0]["controls"]);
+
     let text = nudge_cli(&["explore", "scenes/bounce.toml", "--samples", "64"]);
     let stdout = String::from_utf8_lossy(&text.stdout);
     assert!(text.status.success(), "{stdout}");
