@@ -89,6 +89,9 @@ pub enum SimError {
     /// The event search between two parties made no progress (a contact
     /// that neither separates nor approaches faster than the root
     /// tolerance can resolve). Nothing tunnels silently: the run stops.
+    /// (Between two bodies such a stall is a sustained contact and is
+    /// pushed apart instead, `sim::run::sustained`; this remains for
+    /// obstacles and for pairs already separating faster than the floor.)
     #[error(
         "the collision search between \"{a}\" and \"{b}\" stalled at t = {t:.6} s : their contact neither clears nor closes (a sustained contact, or a body spinning much faster than it moves); raise rest_speed so micro-collisions resolve sustained contact, or make extreme principal moments less extreme"
     )]

@@ -26,6 +26,9 @@ pub(crate) struct Pair {
     /// [`MAX_SKIPS`]).
     pub skips: usize,
     pub skipped_since: f64,
+    /// Between two bodies: the search of this pair crawled in a sustained
+    /// contact and its next impact is a *push* (`sim::run::sustained`).
+    pub push: bool,
 }
 
 /// A pair whose contact is skipped as "not approaching" this many times in

@@ -17,6 +17,7 @@ use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
 mod impact;
 mod islands;
 mod saltation;
+mod sustained;
 
 use super::error::MAX_SUBSTEPS;
 pub use super::error::{SimError, SimOptions};
@@ -244,6 +245,7 @@ pub fn simulate(
                     hold: 0.0,
                     skips: 0,
                     skipped_since: 0.0,
+                    push: false,
                 });
             }
         }
@@ -255,6 +257,7 @@ pub fn simulate(
                 hold: 0.0,
                 skips: 0,
                 skipped_since: 0.0,
+                push: false,
             });
         }
     }
@@ -684,15 +687,14 @@ impl Sim<'_> {
             .collect();
         candidates.extend(close);
         candidates.sort_unstable();
-        let mut best: Option<(f64, usize, crate::geometry::Contact)> = None;
+        let mut best: Option<(f64, usize, crate::geometry::Contact, bool)> = None;
         for k in candidates {
             let p = &self.pairs[k];
             let limit = best.as_ref().map_or(t1, |b| b.0);
-            let stalled = |t| SimError::EventSearchStalled {
-                a: self.scene.bodies[p.a].name.clone(),
-                b: self.party_name(p.b),
-                t,
-            };
+            // A search that crawls to a stall at `t` inside the window: a
+            // sustained contact between two bodies is pushed apart there
+            // (run/sustained.rs); any other stall stops the run.
+            let stall = |t| self.stall(&world, p, t);
             // An armed pair's search runs to the window's end and stands
             // while its motions do, so another pair's event does not make
             // it search again. A disarmed pair is searched afresh, only up
@@ -703,45 +705,48 @@ impl Sim<'_> {
             // this window resumes there next time (an event before then may
             // change the motions), and stops the run only inside it.
             let ahead_from = |from: f64| match world.find_impact(p, from, ahead, &self.tol) {
-                Ok(found) => Ok((found, ahead)),
-                Err(t) if t > t1 => Ok((None, t)),
-                Err(t) => Err(stalled(t)),
+                Ok(found) => Ok((found, ahead, false)),
+                Err(t) if t > t1 => Ok((None, t, false)),
+                Err(t) => stall(t).map(|hit| (Some(hit), t, true)),
             };
-            let found = match cached {
+            // A push is never cached: the pair's search runs afresh.
+            let keep = |found: Option<(f64, crate::geometry::Contact)>, push: bool| {
+                (!push).then_some(found)
+            };
+            let (found, push) = match cached {
                 Some(Searched {
                     hit: Some((tc, c)), ..
-                }) if tc >= t0 => Some((tc, c)),
-                Some(s) if s.hit.is_none() && s.until >= t1 => None,
+                }) if tc >= t0 => (Some((tc, c)), false),
+                Some(s) if s.hit.is_none() && s.until >= t1 => (None, false),
                 Some(s) if s.hit.is_none() => {
-                    let (found, until) = ahead_from(s.until)?;
-                    self.searched[k] = Some(Searched {
-                        until,
-                        hit: found,
-                        ..s
-                    });
-                    found
+                    let (found, until, push) = ahead_from(s.until)?;
+                    self.searched[k] = keep(found, push).map(|hit| Searched { until, hit, ..s });
+                    (found, push)
                 }
                 _ if p.armed => {
-                    let (found, until) = ahead_from(t0)?;
-                    self.searched[k] = Some(Searched {
+                    let (found, until, push) = ahead_from(t0)?;
+                    self.searched[k] = keep(found, push).map(|hit| Searched {
                         from: t0,
                         until,
-                        hit: found,
+                        hit,
                     });
-                    found
+                    (found, push)
                 }
-                _ => world
-                    .find_impact(p, t0, limit, &self.tol)
-                    .map_err(stalled)?,
-            }
-            .filter(|(tc, _)| *tc <= limit);
-            if let Some((tc, c)) = found
+                _ => match world.find_impact(p, t0, limit, &self.tol) {
+                    Ok(found) => (found, false),
+                    Err(t) => (Some(stall(t)?), true),
+                },
+            };
+            if let Some((tc, c)) = found.filter(|(tc, _)| *tc <= limit)
                 && best.as_ref().is_none_or(|b| tc < b.0)
             {
-                best = Some((tc, k, c));
+                best = Some((tc, k, c, push));
             }
         }
-        Ok(best)
+        Ok(best.map(|(tc, k, c, push)| {
+            self.pairs[k].push = push;
+            (tc, k, c)
+        }))
     }
 }
 

@@ -200,7 +200,10 @@ impl Sim<'_> {
                 });
             }
         }
-        if res.approach >= 0.0 {
+        // A sustained contact between two bodies whose search stalled is
+        // pushed apart as a micro-collision (run/sustained.rs).
+        let push = std::mem::take(&mut self.pairs[k].push) && res.approach < self.pair_floor(&pair);
+        if res.approach >= 0.0 && !push {
             // Touching without approaching (a graze at the root): no impulse;
             // resume this pair's search just past the contact.
             let v = res.separation.abs().max(1e-3);

@@ -1,0 +1,62 @@
+//! Two moving bodies in sustained contact: a box riding a struck box, a
+//! tower's upper boxes knocked off together (docs/design.md §4).
+//!
+//! Two bodies falling together under gravity have no relative
+//! acceleration: face on face, their gap stays within nanometres of the
+//! root, neither closing (no impact) nor clearing (no re-arming). The
+//! conservative advancement bounds each body's own motion (`|v| + ω r`
+//! over a gap of nanometres), so it steps nanoseconds at a time and runs
+//! out of iterations: `EventSearchStalled`. (Diagnosed on the tower of
+//! five struck at its middle box: box3 on box4 woken at rest, gap −1e-9 m
+//! (the skin), relative normal rate 0, steps of 7e-9 s; struck at the
+//! second box, both flying at 1.4 m/s, gap 6e-9 m, separating at 4e-4 m/s,
+//! steps of 7e-9 s.)
+//!
+//! Such a stall between two bodies is a sustained contact, and it ends as
+//! a *push*: at the time the search certified, the pair takes a
+//! micro-collision impulse (`sim::rest`, rule 3) that leaves the contact
+//! separating at the pair's floor `v_min` (the larger rest speed of the
+//! two), with friction as at any impact. It is an event like any other
+//! (`Event::micro`), adds at most `½ μ v_min²` of energy (`μ` the pair's
+//! reduced mass, below either mass) and, with the pair separating at
+//! `v_min` at least, the search clears the contact in a bounded number of
+//! steps; gravity brings a body riding on a supported one back within
+//! `2 v_min / g`, as a micro-collision hop. A frozen party is anchored as
+//! at any slow contact. A stall against an obstacle, or between bodies
+//! already separating faster than `v_min`, still stops the run with
+//! `EventSearchStalled`, naming the two and the time.
+
+use super::*;
+
+impl Sim<'_> {
+    /// The micro-collision floor of a pair: the larger rest speed of its
+    /// bodies (`sim::rest`).
+    pub(super) fn pair_floor(&self, pair: &Pair) -> f64 {
+        std::iter::once(pair.a)
+            .chain(pair.b_body())
+            .map(|i| self.rest_thresholds(i).0)
+            .fold(0.0, f64::max)
+    }
+
+    /// A pair's search stalled at `t`: between two bodies with a rest
+    /// speed, the contact there, to be pushed apart; otherwise the error.
+    pub(super) fn stall(
+        &self,
+        world: &World<'_, '_>,
+        pair: &Pair,
+        t: f64,
+    ) -> Result<(f64, crate::geometry::Contact), SimError> {
+        let pushable = pair.b_body().is_some() && self.pair_floor(pair) > 0.0;
+        if pushable
+            && let Some((c, rate)) = world.contact(pair, t, f64::INFINITY)
+            && rate < self.pair_floor(pair)
+        {
+            return Ok((t, c));
+        }
+        Err(SimError::EventSearchStalled {
+            a: self.scene.bodies[pair.a].name.clone(),
+            b: self.party_name(pair.b),
+            t,
+        })
+    }
+}
