@@ -22,8 +22,10 @@
 //! `v_min` at least, the search clears the contact in a bounded number of
 //! steps; gravity brings a body riding on a supported one back within
 //! `2 v_min / g`, as a micro-collision hop. A frozen party is anchored as
-//! at any slow contact. A stall against an obstacle, or between bodies
-//! already separating faster than `v_min`, still stops the run with
+//! at any slow contact. Two bodies already separating faster than `v_min`
+//! (a fast spin at a nanometre gap) take no impulse: the contact is a graze,
+//! and the pair's search resumes just past it, as at any graze (bounded by
+//! the graze guard). A stall against an obstacle still stops the run with
 //! `EventSearchStalled`, naming the two and the time.
 
 use super::*;
@@ -39,7 +41,8 @@ impl Sim<'_> {
     }
 
     /// A pair's search stalled at `t`: between two bodies with a rest
-    /// speed, the contact there, to be pushed apart; otherwise the error.
+    /// speed, the contact there (pushed apart if slower than the floor,
+    /// passed as a graze if not); otherwise the error.
     pub(super) fn stall(
         &self,
         world: &World<'_, '_>,
@@ -47,10 +50,7 @@ impl Sim<'_> {
         t: f64,
     ) -> Result<(f64, crate::geometry::Contact), SimError> {
         let pushable = pair.b_body().is_some() && self.pair_floor(pair) > 0.0;
-        if pushable
-            && let Some((c, rate)) = world.contact(pair, t, f64::INFINITY)
-            && rate < self.pair_floor(pair)
-        {
+        if pushable && let Some((c, _)) = world.contact(pair, t, f64::INFINITY) {
             return Ok((t, c));
         }
         Err(SimError::EventSearchStalled {
