@@ -28,6 +28,7 @@ use std::time::Instant;
 mod accuracy;
 mod commands;
 mod explore;
+mod job;
 mod mouse;
 
 pub use accuracy::{Measurements, Measuring, Timer};

@@ -6,15 +6,15 @@
 //! marked, the Pareto-optimal ones highlighted, `j`/`k` choose and Enter
 //! picks one (an undoable edit).
 
+use super::job::Job;
 use super::*;
 use crate::bench::accuracy::{
     self as bench, Case, Clock, Measured, Plan, Ticking, Wall, accuracy_label, guarded,
     prepare_with,
 };
 use crate::explore::Start;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
 use std::time::Duration;
 
 /// Which clock times the measurements.
@@ -76,30 +76,10 @@ impl std::fmt::Display for Stopped {
 
 /// What the thread has said so far.
 #[derive(Debug, Default)]
-struct Shared {
+pub struct Shared {
     /// Settings measured, of how many.
     progress: Option<(usize, usize)>,
     done: Option<Result<Measurements, Stopped>>,
-}
-
-/// A running measurement: shared with its thread.
-#[derive(Clone)]
-pub struct Job {
-    shared: Arc<Mutex<Shared>>,
-    cancel: Arc<AtomicBool>,
-    thread: Arc<Mutex<Option<JoinHandle<()>>>>,
-}
-
-impl std::fmt::Debug for Job {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Job")
-    }
-}
-
-impl PartialEq for Job {
-    fn eq(&self, other: &Job) -> bool {
-        Arc::ptr_eq(&self.shared, &other.shared)
-    }
 }
 
 /// Measuring, from start to choice.
@@ -107,7 +87,7 @@ impl PartialEq for Job {
 pub enum Measuring {
     #[default]
     Idle,
-    Running(Job),
+    Running(Job<Shared>),
     /// The results; `shown` once the popup has opened on them.
     Done {
         results: Measurements,
@@ -179,33 +159,25 @@ impl App {
             return;
         };
         let n = bench::around(start.scene.accuracy, start.scene.duration).len();
-        let shared = Arc::new(Mutex::new(Shared::default()));
-        let cancel = Arc::new(AtomicBool::new(false));
-        let (s, c, timer) = (Arc::clone(&shared), Arc::clone(&cancel), self.timer);
-        let spawned = std::thread::Builder::new()
-            .name("nudge-accuracy".into())
-            .spawn(move || {
-                let report = |k: usize, n: usize| {
-                    if let Ok(mut sh) = s.lock() {
-                        sh.progress = Some((k, n));
-                    }
-                };
-                let clock: Box<dyn Clock> = match timer {
-                    Timer::Wall => Box::new(Wall::new()),
-                    Timer::Stub => Box::new(Ticking::new(STUB_TICK)),
-                };
-                let done = measure_all(start, clock.as_ref(), &c, &report);
+        let timer = self.timer;
+        let spawned = Job::spawn("nudge-accuracy", move |s: &Mutex<Shared>, c| {
+            let report = |k: usize, n: usize| {
                 if let Ok(mut sh) = s.lock() {
-                    sh.done = Some(done);
+                    sh.progress = Some((k, n));
                 }
-            });
+            };
+            let clock: Box<dyn Clock> = match timer {
+                Timer::Wall => Box::new(Wall::new()),
+                Timer::Stub => Box::new(Ticking::new(STUB_TICK)),
+            };
+            let done = measure_all(start, clock.as_ref(), c, &report);
+            if let Ok(mut sh) = s.lock() {
+                sh.done = Some(done);
+            }
+        });
         match spawned {
-            Ok(handle) => {
-                self.measuring = Measuring::Running(Job {
-                    shared,
-                    cancel,
-                    thread: Arc::new(Mutex::new(Some(handle))),
-                });
+            Ok(job) => {
+                self.measuring = Measuring::Running(job);
                 self.say(
                     Level::Info,
                     format!("accuracy: the reference run, then {n} settings… (Esc cancels)"),
@@ -238,13 +210,14 @@ impl App {
             }
             _ => return false,
         };
-        let (progress, done) = match job.shared.lock() {
-            Ok(mut sh) => (sh.progress, sh.done.take()),
-            Err(_) => (
-                None,
-                Some(Err(Stopped::Failed("the measuring thread failed".into()))),
-            ),
-        };
+        let (progress, done) = job
+            .with(|sh| (sh.progress, sh.done.take()))
+            .unwrap_or_else(|| {
+                (
+                    None,
+                    Some(Err(Stopped::Failed("the measuring thread failed".into()))),
+                )
+            });
         let Some(result) = done else {
             let Some((k, n)) = progress else {
                 return false;
@@ -260,11 +233,7 @@ impl App {
             }
             return changed;
         };
-        if let Ok(mut t) = job.thread.lock()
-            && let Some(h) = t.take()
-        {
-            let _ = h.join();
-        }
+        job.join();
         match result {
             Ok(results) => {
                 let n = results.rows.len();
@@ -294,10 +263,7 @@ impl App {
     /// its results.
     pub(super) fn wait_accuracy(&mut self) {
         if let Measuring::Running(job) = &self.measuring {
-            let handle = job.thread.lock().ok().and_then(|mut t| t.take());
-            if let Some(h) = handle {
-                let _ = h.join();
-            }
+            job.join();
             self.poll_accuracy();
         }
     }
@@ -305,7 +271,7 @@ impl App {
     /// Esc while measuring: stop after the current setting.
     pub(super) fn cancel_accuracy(&mut self) -> bool {
         if let Measuring::Running(job) = &self.measuring {
-            job.cancel.store(true, Ordering::Relaxed);
+            job.cancel();
             self.say(Level::Info, "accuracy: cancelling after this setting");
             return true;
         }

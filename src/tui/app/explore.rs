@@ -4,12 +4,11 @@
 //! beside the motion, `j`/`k` step through them, Enter accepts one (an
 //! undoable edit) and Esc dismisses them.
 
+use super::job::Job;
 use super::*;
 use crate::explore::{self, ExploreOptions, Progress, Start, Tally};
 use crate::view::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
 
 /// One alternative as the editor shows it.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,29 +26,9 @@ pub struct Alternative {
 
 /// What the background exploration has said so far.
 #[derive(Debug, Default)]
-struct Shared {
+pub struct Shared {
     tally: Option<Tally>,
     done: Option<Result<Vec<Alternative>, String>>,
-}
-
-/// A running exploration: shared with its thread.
-#[derive(Clone)]
-pub struct Job {
-    shared: Arc<Mutex<Shared>>,
-    cancel: Arc<AtomicBool>,
-    thread: Arc<Mutex<Option<JoinHandle<()>>>>,
-}
-
-impl std::fmt::Debug for Job {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Job")
-    }
-}
-
-impl PartialEq for Job {
-    fn eq(&self, other: &Job) -> bool {
-        Arc::ptr_eq(&self.shared, &other.shared)
-    }
 }
 
 /// Exploring, from start to choice.
@@ -57,7 +36,7 @@ impl PartialEq for Job {
 pub enum Exploring {
     #[default]
     Idle,
-    Running(Job),
+    Running(Job<Shared>),
     /// The alternatives, best first, and the one shown.
     Browsing {
         alternatives: Arc<Vec<Alternative>>,
@@ -100,39 +79,30 @@ impl App {
             self.say(Level::Error, "this editor cannot explore");
             return;
         };
-        let shared = Arc::new(Mutex::new(Shared::default()));
-        let cancel = Arc::new(AtomicBool::new(false));
-        let (s, c) = (Arc::clone(&shared), Arc::clone(&cancel));
         let opts = ExploreOptions {
             samples,
             ..ExploreOptions::default()
         };
-        let spawned = std::thread::Builder::new()
-            .name("nudge-explore".into())
-            .spawn(move || {
-                let report = |t: &Tally| {
-                    if let Ok(mut sh) = s.lock() {
-                        sh.tally = Some(*t);
-                    }
-                };
-                let progress = Progress {
-                    cancel: Some(&c),
-                    report: Some(&report),
-                };
-                let done = explore::run(&start, &opts, &progress)
-                    .map(|found| alternatives(&start, &found))
-                    .map_err(|e| e.to_string());
+        let spawned = Job::spawn("nudge-explore", move |s: &Mutex<Shared>, c| {
+            let report = |t: &Tally| {
                 if let Ok(mut sh) = s.lock() {
-                    sh.done = Some(done);
+                    sh.tally = Some(*t);
                 }
-            });
+            };
+            let progress = Progress {
+                cancel: Some(c),
+                report: Some(&report),
+            };
+            let done = explore::run(&start, &opts, &progress)
+                .map(|found| alternatives(&start, &found))
+                .map_err(|e| e.to_string());
+            if let Ok(mut sh) = s.lock() {
+                sh.done = Some(done);
+            }
+        });
         match spawned {
-            Ok(handle) => {
-                self.exploring = Exploring::Running(Job {
-                    shared,
-                    cancel,
-                    thread: Arc::new(Mutex::new(Some(handle))),
-                });
+            Ok(job) => {
+                self.exploring = Exploring::Running(job);
                 self.say(
                     Level::Info,
                     format!("exploring {samples} worlds around this motion… (Esc cancels)"),
@@ -161,10 +131,9 @@ impl App {
         let Exploring::Running(job) = &self.exploring else {
             return false;
         };
-        let (tally, done) = match job.shared.lock() {
-            Ok(mut sh) => (sh.tally, sh.done.take()),
-            Err(_) => (None, Some(Err("the exploring thread failed".into()))),
-        };
+        let (tally, done) = job
+            .with(|sh| (sh.tally, sh.done.take()))
+            .unwrap_or_else(|| (None, Some(Err("the exploring thread failed".into()))));
         match done {
             None => {
                 let Some(t) = tally else {
@@ -188,11 +157,7 @@ impl App {
                 changed
             }
             Some(result) => {
-                if let Ok(mut t) = job.thread.lock()
-                    && let Some(h) = t.take()
-                {
-                    let _ = h.join();
-                }
+                job.join();
                 match result {
                     Ok(alts) if alts.is_empty() => {
                         self.exploring = Exploring::Idle;
@@ -222,13 +187,7 @@ impl App {
     /// not depend on timing), then take its result.
     pub fn wait_background(&mut self) {
         if let Exploring::Running(job) = &self.exploring {
-            let handle = job.thread.lock().ok().and_then(|mut t| t.take());
-            if let Some(h) = handle {
-                let _ = h.join();
-                if let Ok(mut t) = job.thread.lock() {
-                    *t = None;
-                }
-            }
+            job.join();
             self.poll_exploring();
         }
         self.wait_accuracy();
@@ -238,7 +197,7 @@ impl App {
     pub(super) fn cancel_exploring(&mut self) -> bool {
         match &self.exploring {
             Exploring::Running(job) => {
-                job.cancel.store(true, Ordering::Relaxed);
+                job.cancel();
                 self.say(Level::Info, "cancelling: the worlds found so far are kept");
                 true
             }
