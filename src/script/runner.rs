@@ -200,16 +200,16 @@ pub fn run_script_with<S: Copy + Into<Step>>(
         // What the editor defers to a pause (as after each key in the
         // terminal when no other key is waiting), timed on its own.
         keys.add(&crate::profile::take());
-        let mut pausing = replay.pauses;
-        while pausing {
-            let start = std::time::Instant::now();
-            pausing = core.idle();
-            if !pausing {
-                break;
-            }
-            idle_ms.push(start.elapsed().as_secs_f64() * 1e3);
-            if let Ok(ms) = draw(&mut terminal, core, &mut app) {
-                render_ms.push(ms);
+        if replay.pauses {
+            loop {
+                let start = std::time::Instant::now();
+                if !core.idle() {
+                    break;
+                }
+                idle_ms.push(start.elapsed().as_secs_f64() * 1e3);
+                if let Ok(ms) = draw(&mut terminal, core, &mut app) {
+                    render_ms.push(ms);
+                }
             }
         }
         paused.add(&crate::profile::take());
