@@ -92,8 +92,14 @@ fn a_held_key_draws_prefixes_and_the_pause_completes_the_same_motion() {
         drawn_to <= held.motion_until() + 1e-12,
         "traces end at the horizon"
     );
+    let said = held.view().status.busy.unwrap_or_default();
+    assert!(
+        said.starts_with(&format!("motion drawn to {:.2} s of", held.motion_until())),
+        "the status line says the traces end early: {said:?}"
+    );
     assert!(held.idle(), "the pause simulates the rest");
     assert_eq!(held.motion_until(), duration);
+    assert_eq!(held.view().status.busy, None, "and then stops saying so");
     while held.idle() {}
 
     let mut paused = open();

@@ -595,6 +595,9 @@ impl App {
         if changes_motion && matches!(self.exploring, Exploring::Browsing { .. }) {
             self.exploring = Exploring::Idle;
         }
+        if changes_motion {
+            self.note_edit_while_measuring();
+        }
         let start = Instant::now();
         let result = core.apply(edit);
         self.apply_ms.push(start.elapsed().as_secs_f64() * 1e3);

@@ -14,7 +14,7 @@ use crate::view::Sensitivity;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 
-mod accuracy;
+pub(crate) mod accuracy;
 
 /// Which popup is open.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

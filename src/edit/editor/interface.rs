@@ -88,7 +88,7 @@ impl Core for Editor {
             events,
             controls,
             constraints,
-            status: self.status.clone(),
+            status: self.shown_status(),
             dirty: self.dirty(),
             accuracy: self.scene.accuracy,
         }

@@ -42,6 +42,20 @@ impl Editor {
         self.traj.duration
     }
 
+    /// The status line as shown: while only a prefix of the motion is
+    /// known and nothing else is going on, it says how far the traces reach
+    /// (a held key's traces end there until the keys pause).
+    pub(super) fn shown_status(&self) -> view::Status {
+        let mut status = self.status.clone();
+        if self.motion_due && status.busy.is_none() {
+            status.busy = Some(format!(
+                "motion drawn to {:.2} s of {:.2} s; the rest follows when keys pause",
+                self.traj.duration, self.scene.duration
+            ));
+        }
+        status
+    }
+
     /// Whether `tr`, a trial simulated to the solver's horizon, can stand
     /// for the motion until the next pause: deferring is on, and it reaches
     /// past the selected time and every constraint's time, so the next

@@ -56,6 +56,9 @@ pub struct Measurements {
     pub(crate) freed: bool,
     /// The row `j`/`k` chose.
     pub(crate) selected: usize,
+    /// The motion was edited while these were measured: they describe the
+    /// scene as it was when measuring started.
+    pub(crate) stale: bool,
 }
 
 /// Why a measurement has no results.
@@ -80,6 +83,8 @@ pub struct Shared {
     /// Settings measured, of how many.
     progress: Option<(usize, usize)>,
     done: Option<Result<Measurements, Stopped>>,
+    /// The motion was edited since measuring started.
+    edited: bool,
 }
 
 /// Measuring, from start to choice.
@@ -144,6 +149,7 @@ fn measure_all(
         t_drag: prep.t_drag,
         freed: case.freed,
         selected,
+        stale: false,
     })
 }
 
@@ -210,12 +216,13 @@ impl App {
             }
             _ => return false,
         };
-        let (progress, done) = job
-            .with(|sh| (sh.progress, sh.done.take()))
+        let (progress, done, edited) = job
+            .with(|sh| (sh.progress, sh.done.take(), sh.edited))
             .unwrap_or_else(|| {
                 (
                     None,
                     Some(Err(Stopped::Failed("the measuring thread failed".into()))),
+                    false,
                 )
             });
         let Some(result) = done else {
@@ -235,7 +242,8 @@ impl App {
         };
         job.join();
         match result {
-            Ok(results) => {
+            Ok(mut results) => {
+                results.stale = edited;
                 let n = results.rows.len();
                 self.measuring = Measuring::Done {
                     results,
@@ -265,6 +273,14 @@ impl App {
         if let Measuring::Running(job) = &self.measuring {
             job.join();
             self.poll_accuracy();
+        }
+    }
+
+    /// The motion changed while measuring: the results will say they
+    /// describe the scene as it was.
+    pub(super) fn note_edit_while_measuring(&self) {
+        if let Measuring::Running(job) = &self.measuring {
+            job.with(|sh| sh.edited = true);
         }
     }
 
@@ -375,5 +391,42 @@ mod tests {
         let (result, said) = run(true);
         assert_eq!(result, Err(Stopped::Cancelled));
         assert_eq!(said, [(0, 5)]);
+    }
+
+    /// Measure the bounce scene from a real editor, applying `edit` while
+    /// the measurement runs (it is not polled in between, so it still runs
+    /// as far as the app knows, however fast the thread is).
+    fn measured_with(edit: Option<Edit>) -> Measurements {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bounce.toml");
+        let mut editor = crate::edit::Editor::open(&path).expect("scene opens");
+        let mut app = crate::tui::fixtures::app(&editor.view(), 80, 24);
+        app.measure_accuracy(&mut editor);
+        assert!(app.measuring());
+        if let Some(edit) = edit {
+            assert!(app.apply(&mut editor, edit).is_some());
+        }
+        app.wait_accuracy();
+        app.measurements().cloned().expect("measured")
+    }
+
+    #[test]
+    fn results_measured_across_an_edit_say_they_are_stale() {
+        assert!(!measured_with(None).stale);
+        assert!(!measured_with(Some(Edit::SelectTime(0.5))).stale);
+        let tighter = Accuracy {
+            method: crate::scene::Method::Rk4 { step: 5e-4 },
+            ..Accuracy::default()
+        };
+        let m = measured_with(Some(Edit::SetAccuracy(tighter)));
+        assert!(m.stale, "an edit during the measurement marks it");
+        let text: String = crate::tui::popup::accuracy::lines(&m, Theme::PLAIN, 76)
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join("\n");
+        assert!(
+            text.contains("before the last edit: A measures again"),
+            "{text}"
+        );
     }
 }

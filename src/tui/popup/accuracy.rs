@@ -26,6 +26,16 @@ pub fn lines(m: &Measurements, theme: Theme, width: usize) -> Vec<Line<'static>>
     .into_iter()
     .map(Line::raw)
     .collect();
+    if m.stale {
+        out.extend(
+            wrap(
+                "measured on the scene as it was before the last edit: A measures again",
+                width,
+            )
+            .into_iter()
+            .map(|l| Line::styled(l, theme.changed())),
+        );
+    }
     out.push(Line::raw(""));
     out.push(Line::styled(
         truncate(
