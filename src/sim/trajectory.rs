@@ -101,11 +101,11 @@ pub enum TangentError {
         "grazing contact at event {event} (t = {t:.6} s, |E_q F| ratio {ratio:.1e}): the motion is not differentiable there; nudge falls back to sampling"
     )]
     Grazing { event: usize, t: f64, ratio: f64 },
-    /// Bodies rest on bodies, are anchored by a frozen body or woken from
-    /// rest: the freeze and wake times and who takes part jump with the
-    /// controls, so the Jacobian is flagged lost from here on.
+    /// A body froze or woke in an island at an event that has no tangent
+    /// itself (its saltation failed: a grazing contact): the Jacobian of
+    /// the bodies it held or woke is flagged lost from here on.
     #[error(
-        "bodies rest on bodies from t = {t:.6} s (resting, anchored or woken contact): the motion is not differentiable there; nudge falls back to sampling"
+        "bodies rest on bodies from t = {t:.6} s, frozen or woken at an event without a tangent: the motion is not differentiable there; nudge falls back to sampling"
     )]
     Contact { t: f64 },
     /// The simulation was run without tangents.

@@ -375,7 +375,6 @@ impl Sim<'_> {
         let mut graze_ratio = f64::NAN;
         let mut grazing = false;
         let b_body = pair.b_body();
-        self.lose_island_tangents(tc, &pair, &island, anchored, [frozen_a, frozen_b]);
         let lost = self.traj.tangent_lost[a].or(b_body.and_then(|j| self.traj.tangent_lost[j]));
         if let (true, Some((_, e))) = (self.traj.tangent, lost) {
             // One party's Jacobians are already lost: the collision takes
@@ -393,6 +392,7 @@ impl Sim<'_> {
                 &post_a,
                 post_b.as_ref(),
                 &mode,
+                b_rests || (anchored && frozen_b),
                 &ctx,
             ) {
                 Ok((jpost, dt, ratio)) => {
@@ -456,7 +456,7 @@ impl Sim<'_> {
             micro,
             rest_time,
             friction: (friction > 0.0).then_some(ctx.mode),
-            dt_du,
+            dt_du: dt_du.clone(),
             pre: [sa, sb.unwrap_or(sa)],
             post: [post_a, post_b.unwrap_or(post_a)],
         };
@@ -469,7 +469,14 @@ impl Sim<'_> {
         {
             self.start_segment(j, tc, s, jb, b_rests, None);
         }
-        self.settle_island(tc, &pair, &island, anchored, [frozen_a, frozen_b]);
+        self.settle_island(
+            tc,
+            &pair,
+            &island,
+            anchored,
+            [frozen_a, frozen_b],
+            dt_du.as_ref(),
+        );
         Ok(())
     }
 

@@ -25,10 +25,17 @@
 //! points up from it, transitively) wake with their frozen state, starting
 //! new segments.
 //!
-//! Jacobians: a body that freezes in an island, touches an anchored body
-//! or is woken has its Jacobian flagged lost from then on
-//! (`TangentError::Contact`): the freeze time and the set of frozen bodies
-//! jump with the controls, and a woken body stays flagged.
+//! Jacobians, with the event sequence fixed (which bodies freeze or wake
+//! at which event does not change under the perturbation): freezing and
+//! waking happen at an impact's time `t_c(u)`, and change only velocities,
+//! so they carry the tangent across as the saltation of that map does
+//! (`tangent_across`): a body freezing keeps `J + F dt_c/du` on its
+//! position and orientation rows, zero on its velocity rows; a woken body
+//! starts from its frozen tangent less `F⁺ dt_c/du` (it starts falling
+//! when the event happens). An anchored party's flow is zero in the
+//! impulse's saltation, and a party held still after it has zero velocity
+//! rows. Only a body without a tangent before the event (or an event
+//! without `dt_c/du`) is flagged lost (`TangentError::Contact`).
 
 use super::*;
 use crate::sim::island::{self, IslandBody, IslandContact};
@@ -215,20 +222,62 @@ impl Sim<'_> {
         })
     }
 
+    /// The tangent body `i` starts a segment at `tc` with when the event
+    /// at `tc` (moving with the controls by `dt_du`) freezes it (`still`:
+    /// velocities zeroed) or wakes it from rest: the saltation
+    /// `J⁺ = Φ (J⁻ + (F⁻ − F⁺') dt_c/du)` of a map that changes only the
+    /// velocities (zeroes them, or keeps a frozen body's zero), with `F⁻`
+    /// and `F⁺` the flows before and after (zero while frozen). Without a
+    /// tangent before, or without `dt_c/du`, the Jacobian is flagged lost.
+    fn tangent_across(
+        &mut self,
+        tc: f64,
+        i: usize,
+        dt_du: Option<&DVector<f64>>,
+        pre: &BodyState,
+        post: &BodyState,
+        still: bool,
+    ) -> DMatrix<f64> {
+        let m = self.traj.m;
+        let was_frozen = self.frozen(i);
+        let known = self
+            .traj
+            .jacobian(i, tc, Side::Post)
+            .ok()
+            .zip(dt_du)
+            .filter(|_| self.traj.tangent);
+        let Some((mut j, dt)) = known else {
+            self.lose_tangent(tc, i);
+            return DMatrix::zeros(12, m);
+        };
+        let f_pre = self.traj.flow(i, pre, was_frozen);
+        let f_post = self.traj.flow(i, post, still);
+        j += (f_pre - f_post) * dt.transpose();
+        if still {
+            j.rows_mut(6, 6).fill(0.0);
+        }
+        j
+    }
+
     /// Freeze body `i` at `tc` in state `s` (velocities zeroed), as a
-    /// member of an island: its Jacobian is flagged lost.
-    pub(super) fn freeze(&mut self, tc: f64, i: usize, s: &BodyState) {
+    /// member of an island held by the event at `tc`.
+    pub(super) fn freeze(
+        &mut self,
+        tc: f64,
+        i: usize,
+        s: &BodyState,
+        dt_du: Option<&DVector<f64>>,
+    ) {
         let still = BodyState {
             v: Vec3::zeros(),
             w: Vec3::zeros(),
             ..*s
         };
-        self.lose_tangent(tc, i);
-        self.start_segment(i, tc, still, DMatrix::zeros(12, self.traj.m), true, None);
+        let j = self.tangent_across(tc, i, dt_du, s, &still, true);
+        self.start_segment(i, tc, still, j, true, None);
     }
 
-    /// Flag body `i`'s Jacobian lost from `tc` (a contact between bodies
-    /// that rest, anchor or wake; see the module notes).
+    /// Flag body `i`'s Jacobian lost from `tc`.
     pub(super) fn lose_tangent(&mut self, tc: f64, i: usize) {
         if self.traj.tangent {
             let e = TangentError::Contact { t: tc };
@@ -239,9 +288,10 @@ impl Sim<'_> {
         }
     }
 
-    /// Wake every frozen body lying on body `j` (transitively) at `tc`:
-    /// each starts a new segment from its frozen state.
-    pub(super) fn wake_above(&mut self, tc: f64, j: usize) {
+    /// Wake every frozen body lying on body `j` (transitively) at `tc`, the
+    /// time of the event that struck it: each starts a new segment from its
+    /// frozen state.
+    pub(super) fn wake_above(&mut self, tc: f64, j: usize, dt_du: Option<&DVector<f64>>) {
         let up = -self.traj.gravity.try_normalize(0.0).unwrap_or_else(Vec3::z);
         let mut queue = vec![j];
         let mut woken = vec![j];
@@ -259,9 +309,8 @@ impl Sim<'_> {
                 if lies_on {
                     woken.push(i);
                     queue.push(i);
-                    self.lose_tangent(tc, i);
-                    let m = self.traj.m;
-                    self.start_segment(i, tc, si, DMatrix::zeros(12, m), false, None);
+                    let jw = self.tangent_across(tc, i, dt_du, &si, &si, false);
+                    self.start_segment(i, tc, si, jw, false, None);
                 }
             }
         }
@@ -350,29 +399,6 @@ impl Sim<'_> {
         self.held_island(tc, &seeds).unwrap_or_default()
     }
 
-    /// Flag lost the Jacobians of an impact's island and of its parties
-    /// when a frozen body takes part (except an anchored one's).
-    pub(super) fn lose_island_tangents(
-        &mut self,
-        tc: f64,
-        pair: &Pair,
-        island: &[(usize, BodyState)],
-        anchored: bool,
-        frozen: [bool; 2],
-    ) {
-        if island.is_empty() && !frozen[0] && !frozen[1] {
-            return;
-        }
-        for (i, _) in island {
-            self.lose_tangent(tc, *i);
-        }
-        for i in std::iter::once(pair.a).chain(pair.b_body()) {
-            if !(anchored && self.frozen(i)) {
-                self.lose_tangent(tc, i);
-            }
-        }
-    }
-
     /// After an impact's parties started their segments: freeze the rest of
     /// its island, and wake what lies on a struck frozen party.
     pub(super) fn settle_island(
@@ -382,18 +408,19 @@ impl Sim<'_> {
         island: &[(usize, BodyState)],
         anchored: bool,
         frozen: [bool; 2],
+        dt_du: Option<&DVector<f64>>,
     ) {
         for (i, s) in island {
             if *i != pair.a && Some(*i) != pair.b_body() {
-                self.freeze(tc, *i, s);
+                self.freeze(tc, *i, s, dt_du);
             }
         }
         if !anchored {
             if frozen[0] {
-                self.wake_above(tc, pair.a);
+                self.wake_above(tc, pair.a, dt_du);
             }
             if let (Some(j), true) = (pair.b_body(), frozen[1]) {
-                self.wake_above(tc, j);
+                self.wake_above(tc, j, dt_du);
             }
         }
     }

@@ -8,7 +8,9 @@ type Saltation = (DMatrix<f64>, DVector<f64>, f64);
 
 impl Sim<'_> {
     /// `J⁺ = Φ_q J⁻ + Φ_u + (Φ_q F⁻ − F⁺) dt_c/du` with
-    /// `dt_c/du = −E_q J⁻ / (E_q F⁻)`.
+    /// `dt_c/du = −E_q J⁻ / (E_q F⁻)`. A frozen party's flow before is
+    /// zero; `b_still`: party b is held still after it (it freezes, or is
+    /// an anchored support), so its flow after and velocity rows are zero.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn saltation(
         &self,
@@ -20,6 +22,7 @@ impl Sim<'_> {
         post_a: &BodyState,
         post_b: Option<&BodyState>,
         mode: &Mode,
+        b_still: bool,
         ctx: &ImpulseCtx,
     ) -> Result<Saltation, (TangentError, f64)> {
         let m = self.traj.m;
@@ -35,7 +38,7 @@ impl Sim<'_> {
         );
         let mut fpre = DVector::zeros(ns);
         fpre.rows_mut(0, 12)
-            .copy_from(&self.traj.flow(a, sa, false));
+            .copy_from(&self.traj.flow(a, sa, self.frozen(a)));
         let mut fpost = DVector::zeros(ns);
         let post_flow = match mode {
             Mode::Rest => DVector::zeros(12),
@@ -54,10 +57,10 @@ impl Sim<'_> {
                     .map_err(|e| (e, f64::NAN))?,
             );
             fpre.rows_mut(12, 12)
-                .copy_from(&self.traj.flow(j, sb, false));
+                .copy_from(&self.traj.flow(j, sb, self.frozen(j)));
             fpost
                 .rows_mut(12, 12)
-                .copy_from(&self.traj.flow(j, pb, false));
+                .copy_from(&self.traj.flow(j, pb, b_still));
         }
         // Φ_u: event parameters, masses and inertias.
         let p0 = ctx.param_offset();
@@ -221,6 +224,9 @@ impl Sim<'_> {
                 jpost.rows_mut(9, 3).copy_from(&jw);
             }
             Mode::Bounce => {}
+        }
+        if b_still && ns == 24 {
+            jpost.rows_mut(18, 6).fill(0.0);
         }
         if !jpost.iter().chain(dt.iter()).all(|v| v.is_finite()) {
             return Err(nonfinite(ratio));
