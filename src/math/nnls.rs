@@ -8,37 +8,73 @@
 
 use nalgebra::{DMatrix, DVector};
 
-/// The solution `x ≥ 0` of `min ‖A x − b‖` and its residual `‖A x − b‖`.
+/// The active-set iterations ran out before the optimality conditions held
+/// (cycling in floating point).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("the non-negative least-squares solve did not converge in {iterations} iterations")]
+pub struct NotConverged {
+    pub iterations: usize,
+}
+
+/// The solution `x ≥ 0` of `min ‖A x − b‖` and its residual `‖A x − b‖`,
+/// or the best point reached if the iterations run out (see [`checked`]).
 /// Columns with a non-finite entry are ignored (their `x` is 0).
 pub fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, f64) {
+    let (x, residual, _) = solve(a, b, iteration_cap(a.ncols()));
+    (x, residual)
+}
+
+/// [`nnls`], or [`NotConverged`] when the iterations ran out.
+pub fn checked(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<(DVector<f64>, f64), NotConverged> {
+    let cap = iteration_cap(a.ncols());
+    match solve(a, b, cap) {
+        (x, residual, true) => Ok((x, residual)),
+        (_, _, false) => Err(NotConverged { iterations: cap }),
+    }
+}
+
+/// Outer and inner iterations allowed for `n` columns: every column can
+/// enter and leave the passive set a few times.
+fn iteration_cap(n: usize) -> usize {
+    3 * n + 10
+}
+
+/// The iterations, at most `cap` outer and `cap` inner per outer; whether
+/// they converged.
+fn solve(a: &DMatrix<f64>, b: &DVector<f64>, cap: usize) -> (DVector<f64>, f64, bool) {
     let n = a.ncols();
     let mut x = DVector::zeros(n);
     let usable: Vec<bool> = (0..n)
         .map(|j| a.column(j).iter().all(|v| v.is_finite()))
         .collect();
     if !b.iter().all(|v| v.is_finite()) {
-        return (x, f64::INFINITY);
+        return (x, f64::INFINITY, true);
     }
     // Unusable columns take no part (zeroed, so 0 · NaN never appears).
     let a = &DMatrix::from_fn(a.nrows(), n, |i, j| if usable[j] { a[(i, j)] } else { 0.0 });
     let scale = a.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
     let tol = 1e-12 * scale * b.norm().max(1e-300) * (n.max(1) as f64);
     let mut passive = vec![false; n];
-    for _ in 0..(3 * n + 10) {
+    let mut converged = false;
+    let mut stuck = false;
+    for _ in 0..cap {
         let w = a.transpose() * (b - a * &x);
         let entering = (0..n)
             .filter(|&j| usable[j] && !passive[j])
             .max_by(|&i, &j| w[i].total_cmp(&w[j]));
         let Some(j) = entering.filter(|&j| w[j] > tol) else {
+            converged = true;
             break;
         };
         passive[j] = true;
         // Inner loop: keep the passive least-squares solution feasible.
-        for _ in 0..(3 * n + 10) {
+        let mut feasible = false;
+        for _ in 0..cap {
             let s = passive_solution(a, b, &passive);
             let infeasible: Vec<usize> = (0..n).filter(|&i| passive[i] && s[i] <= 0.0).collect();
             if infeasible.is_empty() {
                 x = s;
+                feasible = true;
                 break;
             }
             let alpha = infeasible
@@ -54,9 +90,18 @@ pub fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, f64) {
                 }
             }
         }
+        if !feasible {
+            stuck = true;
+            break;
+        }
+    }
+    if !converged && !stuck {
+        // The last iteration allowed may have reached the optimum.
+        let w = a.transpose() * (b - a * &x);
+        converged = (0..n).all(|j| !usable[j] || passive[j] || w[j] <= tol);
     }
     let residual = (a * &x - b).norm();
-    (x, residual)
+    (x, residual, converged)
 }
 
 /// Least squares on the passive columns, zero elsewhere.
@@ -130,6 +175,17 @@ mod tests {
                 assert!(w[j] < 1e-9, "w[{j}] = {}", w[j]);
             }
         }
+    }
+
+    #[test]
+    fn running_out_of_iterations_is_not_converged() {
+        // Two columns must enter: one outer iteration is not enough.
+        let a = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 1.0]);
+        let b = DVector::from_vec(vec![1.0, 2.0]);
+        assert!(!solve(&a, &b, 1).2);
+        let (x, r, converged) = solve(&a, &b, iteration_cap(2));
+        assert!(converged && r < 1e-12, "{x}");
+        assert_eq!(checked(&a, &b).map(|(x, _)| x), Ok(x));
     }
 
     #[test]

@@ -86,6 +86,16 @@ pub enum SimError {
         count: usize,
         span: f64,
     },
+    /// The contact forces of an island of bodies resting on bodies could
+    /// not be solved for: the active-set iterations ran out.
+    #[error(
+        "the contact forces of the island {bodies} at t = {t:.6} s did not converge in {iterations} iterations (degenerate contacts); move the bodies apart slightly or change their shapes where they touch"
+    )]
+    IslandUnsolved {
+        bodies: String,
+        t: f64,
+        iterations: usize,
+    },
     /// The event search between two parties made no progress (a contact
     /// that neither separates nor approaches faster than the root
     /// tolerance can resolve). Nothing tunnels silently: the run stops.
@@ -133,4 +143,27 @@ pub enum SimError {
     /// The adaptive integrator could not meet the tolerance.
     #[error("the adaptive step fell below 1e-12 s at t = {t:.6} s; loosen the tolerance")]
     StepTooSmall { t: f64 },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_unsolved_island_names_its_bodies_the_time_and_a_way_out() {
+        let e = SimError::IslandUnsolved {
+            bodies: "\"box0\", \"box1\"".into(),
+            t: 0.25,
+            iterations: 34,
+        };
+        let text = e.to_string();
+        for part in [
+            "\"box0\", \"box1\"",
+            "t = 0.250000 s",
+            "34 iterations",
+            "move the bodies apart",
+        ] {
+            assert!(text.contains(part), "{text}");
+        }
+    }
 }

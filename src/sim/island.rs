@@ -30,7 +30,8 @@
 //! not a prediction of the true distribution; where they are determinate
 //! (a ball in a hollow) they are the forces.
 
-use crate::math::{Vec3, nnls::nnls};
+use crate::math::Vec3;
+use crate::math::nnls::{self, NotConverged};
 use nalgebra::{DMatrix, DVector};
 
 /// A body of an island.
@@ -82,35 +83,50 @@ fn edges(c: &IslandContact) -> Vec<Vec3> {
 
 /// The contact forces that hold the island under gravity `gravity` (m/s²),
 /// one per contact (the force on its body `a`, N), or `None` when no forces
-/// inside the friction pyramids balance every body. `lever` (m) scales the
-/// torque rows to the force rows (the island's largest reach).
+/// inside the friction pyramids balance every body (or the solve did not
+/// converge: [`solve`] tells that apart). `lever` (m) scales the torque
+/// rows to the force rows (the island's largest reach).
 pub fn contact_forces(
     bodies: &[IslandBody],
     contacts: &[IslandContact],
     gravity: &Vec3,
     lever: f64,
 ) -> Option<Vec<Vec3>> {
+    solve(bodies, contacts, gravity, lever).ok().flatten()
+}
+
+/// [`contact_forces`], with an active-set solve that ran out of iterations
+/// as an error rather than as "not held".
+///
+/// # Errors
+/// [`NotConverged`] when the non-negative least-squares iterations ran out.
+pub fn solve(
+    bodies: &[IslandBody],
+    contacts: &[IslandContact],
+    gravity: &Vec3,
+    lever: f64,
+) -> Result<Option<Vec<Vec3>>, NotConverged> {
     let n = bodies.len();
     let g = gravity.norm();
     if n == 0 || !g.is_finite() {
-        return None;
+        return Ok(None);
     }
     if contacts
         .iter()
         .any(|c| c.a >= n || c.b.is_some_and(|b| b >= n))
     {
-        return None;
+        return Ok(None);
     }
     let weight = bodies.iter().map(|b| b.mass).fold(0.0, f64::max) * g;
     if g == 0.0 || weight <= 0.0 {
         // Nothing to balance: held by no force at all.
-        return Some(vec![Vec3::zeros(); contacts.len()]);
+        return Ok(Some(vec![Vec3::zeros(); contacts.len()]));
     }
     let lever = lever.max(1e-12);
     let edge_sets: Vec<Vec<Vec3>> = contacts.iter().map(edges).collect();
     let cols: usize = edge_sets.iter().map(Vec::len).sum();
     if cols == 0 {
-        return None;
+        return Ok(None);
     }
     let mut a = DMatrix::zeros(6 * n, cols);
     let mut col = 0;
@@ -138,9 +154,9 @@ pub fn contact_forces(
             rhs[6 * i + k] = w[k];
         }
     }
-    let (x, residual) = nnls(&a, &rhs);
+    let (x, residual) = nnls::checked(&a, &rhs)?;
     if residual > BALANCED * rhs.norm().max(1.0) || !residual.is_finite() {
-        return None;
+        return Ok(None);
     }
     let mut out = Vec::with_capacity(contacts.len());
     let mut col = 0;
@@ -152,7 +168,7 @@ pub fn contact_forces(
         col += set.len();
         out.push(f * weight);
     }
-    Some(out)
+    Ok(Some(out))
 }
 
 /// Whether the island is held (see [`contact_forces`]).

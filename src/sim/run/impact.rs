@@ -264,7 +264,7 @@ impl Sim<'_> {
                 [&sa, sb.as_ref().unwrap_or(&sa)],
                 &res,
                 [frozen_a, frozen_b],
-            )
+            )?
         };
         if island.iter().any(|(i, _)| *i == a) {
             mode = Mode::Rest;

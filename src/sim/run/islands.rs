@@ -111,11 +111,15 @@ impl Sim<'_> {
     /// The island of the slow `seeds` (with their post-impulse states) at
     /// `tc`, when it has a contact between bodies and is held: every moving
     /// body in it, with its state. `None` otherwise.
+    ///
+    /// # Errors
+    /// [`SimError::IslandUnsolved`] when its contact-force solve did not
+    /// converge.
     pub(super) fn held_island(
         &self,
         tc: f64,
         seeds: &[(usize, BodyState)],
-    ) -> Option<Vec<(usize, BodyState)>> {
+    ) -> Result<Option<Vec<(usize, BodyState)>>, SimError> {
         let scene = self.scene;
         let gravity = self.traj.gravity;
         let state = |i: usize| {
@@ -130,7 +134,7 @@ impl Sim<'_> {
             .map(|(i, s)| (*i, *s, false))
             .collect();
         if members.is_empty() {
-            return None;
+            return Ok(None);
         }
         let mut contacts = Vec::new();
         let mut k = 0;
@@ -155,7 +159,7 @@ impl Sim<'_> {
             k += 1;
         }
         if members.len() < 2 {
-            return None;
+            return Ok(None);
         }
         let index = |b: usize| members.iter().position(|(m, _, _)| *m == b);
         let friction = |mu_a: f64, mu_b: f64| {
@@ -213,13 +217,24 @@ impl Sim<'_> {
             .iter()
             .map(|(i, _, _)| self.traj.dynamics[*i].reach)
             .fold(0.0, f64::max);
-        island::held(&bodies, &contacts, &gravity, lever).then(|| {
+        let held = island::solve(&bodies, &contacts, &gravity, lever)
+            .map_err(|e| SimError::IslandUnsolved {
+                bodies: members
+                    .iter()
+                    .map(|(i, _, _)| format!("\"{}\"", scene.bodies[*i].name))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                t: tc,
+                iterations: e.iterations,
+            })?
+            .is_some();
+        Ok(held.then(|| {
             members
                 .into_iter()
                 .filter(|(_, _, frozen)| !frozen)
                 .map(|(i, s, _)| (i, s))
                 .collect()
-        })
+        }))
     }
 
     /// The tangent body `i` starts a segment at `tc` with when the event
@@ -374,7 +389,7 @@ impl Sim<'_> {
         pre: [&BodyState; 2],
         res: &crate::sim::ImpulseResult,
         frozen: [bool; 2],
-    ) -> Vec<(usize, BodyState)> {
+    ) -> Result<Vec<(usize, BodyState)>, SimError> {
         let mut seeds = Vec::new();
         if !frozen[0] {
             seeds.push((
@@ -396,7 +411,7 @@ impl Sim<'_> {
                 },
             ));
         }
-        self.held_island(tc, &seeds).unwrap_or_default()
+        Ok(self.held_island(tc, &seeds)?.unwrap_or_default())
     }
 
     /// After an impact's parties started their segments: freeze the rest of
