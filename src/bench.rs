@@ -36,6 +36,7 @@ mod latency;
 mod measure;
 mod plot;
 mod precision;
+mod rocking;
 mod scaling;
 mod table;
 

@@ -35,7 +35,7 @@ fn explore_once(editor: &Editor, samples: usize) -> Result<(Exploration, f64), S
 
 /// The paper session of scene `name` (compiled in, without its saves),
 /// replayed on a fresh editor; `None` when there is none.
-fn session(name: &str, case: &Case) -> Option<Result<Editor, String>> {
+pub(super) fn session(name: &str, case: &Case) -> Option<Result<Editor, String>> {
     let steps = super::latency::session_steps(name).ok()?;
     Some((|| {
         let mut editor = Editor::new(case.scene.clone(), None).map_err(|e| e.to_string())?;

@@ -190,7 +190,8 @@ pub(crate) fn print(out: &mut dyn Write, plan: &Plan) -> io::Result<()> {
             num(k - ke, 2)
         )?;
     }
-    settling(out, plan)
+    settling(out, plan)?;
+    super::rocking::print(out, plan)
 }
 
 /// Balls that settle: restitution 0.5 and 0.8, N up to 256, a horizon of
