@@ -238,3 +238,19 @@ fn the_jacobian_through_slipping_and_rolling_matches_central_differences() {
     );
     assert_energy_never_rises(&tr);
 }
+
+/// A ball that lands rolling (its contact point at rest) rolls on from the
+/// landing: no switch, no friction work, its speed kept.
+#[test]
+fn a_ball_landing_while_rolling_rolls_on_unchanged() {
+    let v = Vec3::new(2.0, 0.0, 0.0);
+    let scene = ball(v, Vec3::z().cross(&v) / R, 0.02, 1.0);
+    let tr = run(&scene, true);
+    let kinds = tr.signature();
+    assert_eq!(kinds.len(), 1, "{kinds:?}");
+    assert!(kinds[0].ends_with("|slide"), "{kinds:?}");
+    let end = tr.state(0, 1.0, Side::Post);
+    assert!((end.v - v).norm() < 1e-9 && (end.w - Vec3::z().cross(&v) / R).norm() < 1e-9);
+    assert!(tr.jacobian(0, 1.0, Side::Post).is_ok());
+    assert_energy_never_rises(&tr);
+}
