@@ -54,7 +54,7 @@ pub fn summary(
         .events
         .iter()
         .map(|e| {
-            json!({
+            let mut v = json!({
                 "t": num(e.t),
                 "a": party_name(scene, Party::Body(e.a)),
                 "b": party_name(scene, e.b),
@@ -65,7 +65,12 @@ pub fn summary(
                 "approach_speed": num(-e.approach),
                 "restitution": num(e.restitution),
                 "rest": e.rest,
-            })
+            });
+            // A ball's switch from slipping to rolling (no impulse).
+            if e.roll {
+                v["rolls"] = json!(true);
+            }
+            v
         })
         .collect();
     let bodies: Vec<Value> = scene
@@ -175,7 +180,7 @@ pub fn text(scene: &Scene, controls: &Controls, traj: &Trajectory) -> String {
     for e in &traj.events {
         let _ = writeln!(
             s,
-            "  #{:<3} t={:>9}  {:<10} × {:<10} {:<18} v_n={:>8}{}{}",
+            "  #{:<3} t={:>9}  {:<10} × {:<10} {:<18} v_n={:>8}{}{}{}",
             e.index,
             fixed(e.t, 6),
             party_name(scene, Party::Body(e.a)),
@@ -183,7 +188,8 @@ pub fn text(scene: &Scene, controls: &Controls, traj: &Trajectory) -> String {
             e.key,
             fixed(-e.approach, 4),
             if e.grazing { "  GRAZING" } else { "" },
-            if e.rest { "  rest" } else { "" }
+            if e.rest { "  rest" } else { "" },
+            if e.roll { "  rolls" } else { "" }
         );
     }
     let _ = writeln!(s, "\nfinal states (t = {:.3} s):", traj.duration);

@@ -38,7 +38,12 @@
 //!    the spin (ρ̄: mean distance of the support points from the centre of
 //!    mass; translation and spin decoupled, an approximation) stops it.
 //!    Friction on an inclined plane is not modelled this way (such a body
-//!    keeps bouncing), nor is rolling resistance of a sliding ball.
+//!    keeps bouncing). A ball (isotropic, centred, no drag) with friction
+//!    on a plane normal to gravity slips under Coulomb friction, which
+//!    slows it and spins it up, until its contact point stops slipping; it
+//!    then rolls on without slipping, and the switch is an event
+//!    (`sim::roll`). Without friction, on an inclined plane or otherwise a
+//!    ball slides frictionless; rolling resistance is not modelled.
 //! 3. **Bounce** — otherwise an ordinary impulse; and if it approached
 //!    slower than `2 v_r` and would separate slower than `v_r` (the Zeno
 //!    regime of a contact that should be sustained: pivoting, rolling onto
@@ -57,6 +62,7 @@
 //! `v_r` somewhere, which gravity and `e < 1` bounces dissipate.
 
 use super::dynamics::BodyDynamics;
+use super::roll::Roll;
 use super::state::BodyState;
 use super::statics::{self, Support};
 use crate::geometry::{NearPoint, PartKind, near_points};
@@ -78,6 +84,9 @@ pub struct Slide {
     pub decel: f64,
     /// Coulomb deceleration of the spin about the normal, rad/s².
     pub spin_decel: f64,
+    /// A ball's friction on a level plane: it slips, then rolls
+    /// (`sim::roll`; `decel` is then its slipping deceleration).
+    pub roll: Option<Roll>,
 }
 
 /// How an impact against an obstacle ends. (Short-lived, one per impact:
@@ -354,17 +363,23 @@ pub(crate) fn decide(i: &Impact<'_>) -> Mode {
             (nn, 0.0, 0.0)
         }
     } else {
-        // A ball: its spin does not move its contact; friction is not
-        // modelled once it slides (see the module notes).
+        // A ball: its spin does not move its contact; with friction on a
+        // level plane it slips, then rolls (`sim::roll`).
         (Mat3::identity(), 0.0, 0.0)
+    };
+    let roll = if ball && mu > 0.0 {
+        Roll::new(scene, i.dynamics, i.body, &n, g_n, &accel, mu, s)
+    } else {
+        None
     };
     Mode::Slide {
         slide: Slide {
             obstacle: i.obstacle,
             normal: n,
             accel,
-            decel,
+            decel: roll.map_or(decel, |r| r.decel),
             spin_decel,
+            roll,
         },
         proj_v,
         proj_w,
@@ -391,6 +406,21 @@ impl Slide {
     /// The closed-form motion `τ` seconds after the slide began from `s0`.
     pub(crate) fn at(&self, s0: &BodyState, drag_k: Option<f64>, tau: f64) -> SlideAt {
         let id = Mat3::identity();
+        if let Some(roll) = &self.roll {
+            // The state only: `Roll::jacobian` gives its tangent.
+            let state = roll.at(&self.normal, s0, tau, false).state;
+            let z = Mat3::zeros();
+            return SlideAt {
+                state,
+                dx_dv: z,
+                dv_dv: z,
+                dx_dk: Vec3::zeros(),
+                dv_dk: Vec3::zeros(),
+                rot: z,
+                dth_dw: z,
+                dw_dw: z,
+            };
+        }
         let (x, v, dx_dv, dv_dv, dx_dk, dv_dk) = if self.decel > 0.0 {
             let speed = s0.v.norm();
             if speed == 0.0 {
@@ -483,6 +513,9 @@ impl Slide {
 
     /// `F = (v, ω, a, α)` of a sliding body in state `s`.
     pub(crate) fn flow(&self, s: &BodyState, drag_k: Option<f64>) -> [Vec3; 4] {
+        if let Some(roll) = &self.roll {
+            return roll.flow(&self.normal, s);
+        }
         let a = if self.decel > 0.0 {
             s.v.try_normalize(0.0)
                 .map_or(Vec3::zeros(), |u| -u * self.decel)

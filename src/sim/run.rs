@@ -16,6 +16,7 @@ use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
 
 mod impact;
 mod islands;
+mod roll;
 mod saltation;
 mod sustained;
 
@@ -401,7 +402,21 @@ impl Sim<'_> {
             } else {
                 (end + window).min(duration)
             };
-            match self.next_impact(t, end, ahead)? {
+            let found = self.next_impact(t, end, ahead)?;
+            // A sliding ball that stops slipping first: the switch is an
+            // event (run/roll.rs), and the search goes on from there.
+            if let Some((ts, i)) = self.next_switch(found.as_ref().map_or(end, |f| f.0)) {
+                self.roll_switch(ts, i)?;
+                t = ts;
+                if self.traj.events.len() > self.opts.max_events {
+                    return Err(SimError::TooManyEvents {
+                        limit: self.opts.max_events,
+                        t,
+                    });
+                }
+                continue;
+            }
+            match found {
                 None => {
                     t = end;
                     win = (2.0 * win).min(window);

@@ -80,6 +80,9 @@ pub struct Event {
     /// From this event the body slides on the obstacle's plane instead of
     /// bouncing (its normal motion died out; see [`Slide`]).
     pub slide: Option<Slide>,
+    /// Not an impulse: a sliding ball stopped slipping and rolls on from
+    /// here (see `sim::roll`; `slide` is then the rolling slide).
+    pub roll: bool,
     /// The impulse was a micro-collision: the contact separated slower than
     /// the scene's rest speed and was made to leave at exactly that speed.
     pub micro: bool,
@@ -322,6 +325,10 @@ impl Trajectory {
         event: &Event,
         side: Side,
     ) -> Result<DMatrix<f64>, TangentError> {
+        // A ball's switch to rolling is no impulse: the state at its own
+        // time is one from either side; the rolling side's flow is the
+        // one its start state finds.
+        let side = if event.roll { Side::Post } else { side };
         let j = self.jacobian(body, event.t, side)?;
         let lost = self.tangent_lost.get(body).copied().flatten();
         let dt = event
@@ -343,6 +350,10 @@ impl Trajectory {
         let s0 = &seg.start;
         let tau = t - seg.t0;
         if let Some(slide) = &seg.slide {
+            if let Some(roll) = &slide.roll {
+                let mass = self.mass_cols[body].map(|c| (c, d.mass));
+                return roll.jacobian(&slide.normal, s0, tau, j0, mass);
+            }
             let at = slide.at(s0, d.drag_k, tau);
             let mut j = DMatrix::zeros(12, m);
             let (jx0, jt0, jv0, jw0) = (j0.rows(0, 3), j0.rows(3, 3), j0.rows(6, 3), j0.rows(9, 3));
@@ -495,7 +506,9 @@ impl Trajectory {
         self.events
             .iter()
             .map(|e| {
-                let ending = if e.rest {
+                let ending = if e.roll {
+                    "|roll"
+                } else if e.rest {
                     "|rest"
                 } else if e.slide.is_some() {
                     "|slide"

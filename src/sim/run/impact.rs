@@ -453,6 +453,7 @@ impl Sim<'_> {
             grazing,
             rest,
             slide,
+            roll: false,
             micro,
             rest_time,
             friction: (friction > 0.0).then_some(ctx.mode),
