@@ -284,6 +284,31 @@ fn one_and_two_threads_find_the_same_alternatives() {
     }
 }
 
+/// A sample whose style term alone scores it worse than the last group
+/// that can be kept is not simulated, and that changes nothing offered:
+/// explored in one batch (nothing pruned: the bar is set between batches)
+/// and in batches of 64, the alternatives are the same, though without
+/// constraints (a score that is the style term alone) samples of the wider
+/// rounds are pruned.
+#[test]
+fn samples_too_far_to_be_kept_are_not_simulated_and_change_nothing() {
+    let mut editor = Editor::open(&root().join("scenes/bounce.toml")).expect("scene opens");
+    editor.set_wall_clock(false);
+    let opts = ExploreOptions {
+        samples: 512,
+        batch: 512,
+        ..ExploreOptions::default()
+    };
+    let whole = explore_in(2, &editor, &opts);
+    let pruned = explore_in(2, &editor, &ExploreOptions { batch: 64, ..opts });
+    assert_eq!(whole.pruned, 0, "{whole:?}");
+    assert!(pruned.pruned > 0, "{pruned:?}");
+    assert!(!whole.alternatives.is_empty());
+    assert_eq!(whole.alternatives, pruned.alternatives);
+    assert_eq!(whole.worlds, pruned.worlds);
+    assert!(pruned.groups <= whole.groups);
+}
+
 /// Progress is reported after every batch, and the cancel flag stops the
 /// run after the batch in which it was set, returning what was found.
 #[test]
