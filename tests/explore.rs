@@ -289,7 +289,7 @@ fn one_and_two_threads_find_the_same_alternatives() {
 /// explored in one batch (nothing pruned: the bar is set between batches)
 /// and in batches of 64, the alternatives are the same, though without
 /// constraints (a score that is the style term alone) samples of the wider
-/// rounds are pruned.
+/// rounds are pruned, the same ones on one thread as on two.
 #[test]
 fn samples_too_far_to_be_kept_are_not_simulated_and_change_nothing() {
     let mut editor = Editor::open(&root().join("scenes/bounce.toml")).expect("scene opens");
@@ -307,6 +307,9 @@ fn samples_too_far_to_be_kept_are_not_simulated_and_change_nothing() {
     assert_eq!(whole.alternatives, pruned.alternatives);
     assert_eq!(whole.worlds, pruned.worlds);
     assert!(pruned.groups <= whole.groups);
+    // The bar moves only between batches: one thread prunes the same.
+    let one = explore_in(1, &editor, &ExploreOptions { batch: 64, ..opts });
+    assert_eq!(one, pruned, "1 and 2 threads differ");
 }
 
 /// Progress is reported after every batch, and the cancel flag stops the
