@@ -13,9 +13,16 @@
 //! an [`Alternative`] the user can accept as an undoable edit
 //! ([`Alternative::edit`]).
 //!
+//! A sample whose style term alone scores it worse than the group ranked
+//! last among those that can still be kept (`max(keep, polish_groups)`
+//! best, as the groups stood after the previous batch) is not simulated:
+//! it could neither enter nor improve a kept group, so the alternatives
+//! are exactly those of simulating it (only the count of sequences seen
+//! can be lower).
+//!
 //! Results do not depend on the number of threads: sample `i` draws from
-//! its own stream seeded by `(seed, i)`, and every reduction runs in index
-//! order. [`run`] checks a cancel flag and reports progress between
+//! its own stream seeded by `(seed, i)`, the pruning bar changes only
+//! between batches, and every reduction runs in index order. [`run`] checks a cancel flag and reports progress between
 //! batches, so a front end can run it on a background thread.
 
 mod describe;
@@ -154,7 +161,7 @@ impl Start {
 /// Progress so far, reported between batches.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tally {
-    /// Worlds simulated.
+    /// Worlds drawn (simulated or pruned).
     pub worlds: usize,
     /// Worlds planned.
     pub planned: usize,
@@ -162,6 +169,8 @@ pub struct Tally {
     pub failed: usize,
     /// Worlds whose residual or score was not finite (skipped).
     pub non_finite: usize,
+    /// Worlds not simulated: their style term alone ruled them out.
+    pub pruned: usize,
     /// The best score so far.
     pub best: Option<f64>,
 }
@@ -245,10 +254,13 @@ pub struct Exploration {
     pub names: Vec<String>,
     /// The goal explored towards besides the constraints.
     pub goal: Option<Constraint>,
-    /// Worlds sampled (polishing not counted), failed and non-finite ones.
+    /// Worlds sampled (polishing not counted), failed and non-finite ones,
+    /// and those not simulated because their style term alone ruled them
+    /// out (`worlds − pruned` were simulated).
     pub worlds: usize,
     pub failed: usize,
     pub non_finite: usize,
+    pub pruned: usize,
     /// Distinct signatures among the sampled worlds.
     pub groups: usize,
     /// Differential updates spent polishing.
@@ -276,6 +288,18 @@ fn ranked(groups: &Groups) -> Vec<&(Option<usize>, usize, World)> {
     let mut v: Vec<_> = groups.values().collect();
     v.sort_by(|a, b| a.2.score.total_cmp(&b.2.score).then(a.0.cmp(&b.0)));
     v
+}
+
+/// The score a sample must not exceed to be worth simulating: that of the
+/// `n`-th best group (`None` while there are fewer). A world scoring more
+/// can neither enter the best `n` groups nor change their bests.
+fn bar(groups: &Groups, n: usize) -> Option<f64> {
+    let mut scores: Vec<f64> = groups.values().map(|g| g.2.score).collect();
+    if n == 0 || scores.len() < n {
+        return None;
+    }
+    scores.sort_by(f64::total_cmp);
+    Some(scores[n - 1])
 }
 
 /// Explore around `start` (see the module documentation).
@@ -331,8 +355,11 @@ pub fn run(
         planned: opts.samples,
         failed: 0,
         non_finite: 0,
+        pruned: 0,
         best: None,
     };
+    // Groups that can still be kept: the alternatives and the polished.
+    let kept = opts.keep.max(opts.polish_groups);
     let mut cancelled = false;
     while tally.worlds < opts.samples {
         if progress.cancelled() {
@@ -340,12 +367,13 @@ pub fn run(
             break;
         }
         let (from, to) = (tally.worlds, (tally.worlds + opts.batch).min(opts.samples));
+        let bar = bar(&groups, kept);
         let batch: Vec<Result<World, Lost>> = (from..to)
             .into_par_iter()
             .map(|i| {
                 let round = sample::round_of(i, opts.samples, opts.rounds);
                 let sigma = sample::sigma(opts.sigma0, round);
-                frame.world(around.draw(sigma, &mut sample::stream(opts.seed, i)))
+                frame.world_under(around.draw(sigma, &mut sample::stream(opts.seed, i)), bar)
             })
             .collect();
         for (i, r) in (from..to).zip(batch) {
@@ -358,6 +386,7 @@ pub fn run(
                 }
                 Err(Lost::Failed) => tally.failed += 1,
                 Err(Lost::NonFinite) => tally.non_finite += 1,
+                Err(Lost::Pruned) => tally.pruned += 1,
             }
         }
         tally.worlds = to;
@@ -426,6 +455,7 @@ pub fn run(
         worlds: tally.worlds,
         failed: tally.failed,
         non_finite: tally.non_finite,
+        pruned: tally.pruned,
         groups: sampled_groups,
         polish_updates,
         cancelled,

@@ -190,8 +190,9 @@ fn unknown_section_lists_the_sections() {
 }
 
 /// The explore section samples worlds on every paper scene, from its
-/// unedited motion and from where its paper session leaves the editor, and
-/// states the target for single-body scenes.
+/// unedited motion and from where its paper session leaves the editor,
+/// counts the worlds it did not need to simulate, and states the target
+/// for single-body scenes.
 #[test]
 fn explore_counts_worlds_per_second_per_scene() {
     let text = bench("explore");
@@ -213,11 +214,13 @@ fn explore_counts_worlds_per_second_per_scene() {
         .collect();
     assert_eq!(names, want, "{text}");
     for r in &rows {
-        assert_eq!(r.len(), 9, "{r:?}");
+        assert_eq!(r.len(), 10, "{r:?}");
         assert_eq!(r[4], "256", "worlds: {r:?}");
-        let sequences: usize = r[6].parse().unwrap_or(0);
+        let pruned: usize = r[5].parse().unwrap_or(usize::MAX);
+        assert!(pruned < 256, "some worlds are simulated: {r:?}");
+        let sequences: usize = r[7].parse().unwrap_or(0);
         assert!(sequences >= 1, "at least one collision sequence: {r:?}");
-        positive_ms(&r[8], "worlds/s");
+        positive_ms(&r[9], "worlds/s");
     }
     for what in ["whole motions", "after the sessions"] {
         assert!(

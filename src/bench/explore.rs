@@ -70,6 +70,7 @@ pub(crate) fn print(out: &mut dyn Write, plan: &Plan, paper: &[Entry]) -> io::Re
         ("m", Align::Right),
         ("until [s]", Align::Right),
         ("worlds", Align::Right),
+        ("pruned", Align::Right),
         ("skipped", Align::Right),
         ("sequences", Align::Right),
         ("time [s]", Align::Right),
@@ -103,7 +104,8 @@ pub(crate) fn print(out: &mut dyn Write, plan: &Plan, paper: &[Entry]) -> io::Re
             row.and_then(|editor| guarded(|| explore_once(&editor, samples)).map(|r| (editor, r)));
         match measured {
             Ok((editor, (x, secs))) => {
-                let rate = x.worlds as f64 / secs;
+                // Worlds actually simulated: a pruned one costs a draw.
+                let rate = (x.worlds - x.pruned) as f64 / secs;
                 let bodies = editor.scene().bodies.len();
                 if bodies == 1 {
                     single.push((after_session, name.clone(), rate));
@@ -114,6 +116,7 @@ pub(crate) fn print(out: &mut dyn Write, plan: &Plan, paper: &[Entry]) -> io::Re
                     editor.controls().m().to_string(),
                     num(horizon(&editor), 2),
                     x.worlds.to_string(),
+                    x.pruned.to_string(),
                     (x.failed + x.non_finite).to_string(),
                     x.groups.to_string(),
                     num(secs, 3),
@@ -147,6 +150,14 @@ pub(crate) fn print(out: &mut dyn Write, plan: &Plan, paper: &[Entry]) -> io::Re
     writeln!(
         out,
         "  worlds stop just past the last constrained time. skipped: failed or non-finite worlds;"
+    )?;
+    writeln!(
+        out,
+        "  pruned: not simulated, their style term alone scoring them below every group that can be"
+    )?;
+    writeln!(
+        out,
+        "  kept (the alternatives are the same); worlds/s counts the simulated worlds, up to `until`."
     )?;
     writeln!(
         out,

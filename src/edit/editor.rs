@@ -86,6 +86,9 @@ pub struct Editor {
     /// gradients could not reach, kept for exploring (`crate::explore`)
     /// until an edit other than a selection or another nudge.
     pending_drag: Option<Constraint>,
+    /// The motion is an explored alternative the user accepted: nudges
+    /// stay in its collision sequence (no pops) until another edit.
+    held: bool,
     /// Keep a nudge's simulated prefix until a pause (`motion`).
     defer_motion: bool,
     /// `traj` is a prefix: the rest of the motion waits for a pause.
@@ -201,6 +204,7 @@ impl Editor {
             estimate_due: false,
             obstacle_lines: Vec::new(),
             pending_drag: None,
+            held: false,
             defer_motion: false,
             motion_due: false,
             whole_at: None,
@@ -419,7 +423,10 @@ impl Editor {
             &self.controls,
             &self.traj,
             constraints,
-            &self.opts,
+            &UpdateOptions {
+                pop: !self.held,
+                ..self.opts
+            },
         )
         .map_err(|e| invalid(e.to_string()))?;
         let moved = res.trajectory.is_some();

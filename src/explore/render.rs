@@ -67,11 +67,12 @@ pub fn text(scene: &Scene, x: &Exploration) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "explore {}: {} worlds sampled ({} failed, {} not finite, skipped), {} collision sequences, {} polishing updates{}",
+        "explore {}: {} worlds sampled ({} failed, {} not finite, skipped; {} not simulated, too far to be kept), {} collision sequences, {} polishing updates{}",
         scene.name,
         x.worlds,
         x.failed,
         x.non_finite,
+        x.pruned,
         x.groups,
         x.polish_updates,
         if x.cancelled { "; cancelled" } else { "" }
@@ -180,6 +181,7 @@ pub fn json(scene: &Scene, x: &Exploration) -> Value {
         "worlds": x.worlds,
         "failed": x.failed,
         "non_finite": x.non_finite,
+        "pruned": x.pruned,
         "groups": x.groups,
         "polish_updates": x.polish_updates,
         "cancelled": x.cancelled,

@@ -51,6 +51,9 @@ pub(crate) enum Lost {
     /// It ran, but its residual or score is not a finite number (e.g. a
     /// floating constraint whose collision does not happen).
     NonFinite,
+    /// Not simulated: its style term alone already scores it below every
+    /// group it could enter (see [`Frame::bound`]).
+    Pruned,
 }
 
 impl Frame<'_> {
@@ -69,6 +72,20 @@ impl Frame<'_> {
             .filter_map(|(s, k)| k.then_some(s))
             .collect();
         (signature, describe::contacts(self.scene, tr, &keep))
+    }
+
+    /// A lower bound of `u`'s score known before simulating it: the style
+    /// term `style · ‖u − u0‖_M` (the residual is a norm, never negative).
+    pub(crate) fn bound(&self, u: &DVector<f64>) -> f64 {
+        self.style * distance(&(u - self.u0), self.scales)
+    }
+
+    /// Simulate and score `u`, unless its [`Frame::bound`] exceeds `bar`.
+    pub(crate) fn world_under(&self, u: DVector<f64>, bar: Option<f64>) -> Result<World, Lost> {
+        match bar {
+            Some(bar) if self.bound(&u) > bar => Err(Lost::Pruned),
+            _ => self.world(u),
+        }
     }
 
     /// Simulate and score `u`.

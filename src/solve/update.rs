@@ -97,6 +97,11 @@ pub struct UpdateOptions {
     pub rank_tol: f64,
     /// Seed of the sampler (deterministic results).
     pub seed: u64,
+    /// Sampling may jump to another collision sequence (a pop). `false`
+    /// keeps every step in the current one: after the user chose a
+    /// sequence (an explored alternative), a nudge that cannot go further
+    /// in it is blocked rather than popped out of it.
+    pub pop: bool,
 }
 
 impl Default for UpdateOptions {
@@ -107,6 +112,7 @@ impl Default for UpdateOptions {
             samples: 24,
             rank_tol: 1e-12,
             seed: 0x5eed,
+            pop: true,
         }
     }
 }
@@ -585,6 +591,7 @@ pub fn update(
             .par_iter()
             .filter_map(|dv| {
                 trial(scene, controls, &(&u0 + dv), constraints, false, until)
+                    .filter(|(_, tr)| opts.pop || prefix(tr) == signature)
                     .map(|(res, tr)| (res, dv.clone(), tr))
             })
             .min_by(|a, b| a.0.total_cmp(&b.0));

@@ -23,6 +23,7 @@ impl Editor {
         );
         let paths0 = (!selects).then(|| self.paths.clone());
         let is_nudge = matches!(edit, Edit::Nudge { .. });
+        let is_accept = matches!(edit, Edit::SetControls(_));
         // A blocked drag stays the pending goal while the user looks around
         // or nudges again; any other edit retires it.
         let retires_drag = !matches!(
@@ -387,6 +388,7 @@ impl Editor {
         self.edits += 1;
         if retires_drag {
             self.pending_drag = None;
+            self.held = is_accept;
         }
         Ok(Outcome {
             updates: self.updates - updates0,
