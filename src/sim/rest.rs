@@ -54,7 +54,11 @@
 //!    the impact rate is bounded, no Zeno series, and the contact point
 //!    never drifts below the surface. Energy grows only when `u < v_r`, by
 //!    at most `½ m v_r²` per micro-collision (`Event::micro` marks them).
-//!    The dual-number Jacobian differentiates this map.
+//!    The dual-number Jacobian differentiates this map. When the body's
+//!    support points on the obstacle lie on one line (an edge), with
+//!    friction, the impact starts a *pivot* instead (`sim::pivot`): the
+//!    body turns about the edge as a hinge until it rolls onto a face,
+//!    lifts off or slips, in one event instead of hundreds of hops.
 //!
 //! Every path ends: a Zeno series of a supported body falls below `v_r` in
 //! finitely many bounces and rests or slides; chatter is bounded by the hop

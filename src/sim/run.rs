@@ -16,6 +16,7 @@ use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
 
 mod impact;
 mod islands;
+mod pivot;
 mod roll;
 mod saltation;
 mod sustained;
@@ -189,6 +190,7 @@ pub fn simulate(
         tracks.push(Track {
             segments: vec![Segment {
                 slide: None,
+                pivot: None,
                 t0: 0.0,
                 start,
                 j0,
@@ -376,7 +378,9 @@ impl Sim<'_> {
         let window = self.opts.window.max(self.scene.accuracy.window());
         let mut win = window;
         while t < duration {
-            let end = (t + win).min(duration);
+            // A pivot that ends (lands, lifts off, slips) ends the window.
+            let pivot_end = self.next_pivot_end().filter(|(te, _)| *te < t + win);
+            let end = pivot_end.map_or(t + win, |(te, _)| te.max(t)).min(duration);
             while frontier < end && self.cursors.iter().any(Option::is_some) {
                 let mut hh = match self.scene.accuracy.method {
                     Method::Rk4 { step } => step,
@@ -417,6 +421,13 @@ impl Sim<'_> {
                 continue;
             }
             match found {
+                None if pivot_end.is_some_and(|(te, _)| te <= end) => {
+                    let (te, i) = pivot_end.unwrap_or((end, 0));
+                    self.truncate(te);
+                    frontier = te;
+                    self.end_pivot(te, i)?;
+                    t = te;
+                }
                 None => {
                     t = end;
                     win = (2.0 * win).min(window);

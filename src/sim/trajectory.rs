@@ -5,6 +5,7 @@ use super::dynamics::BodyDynamics;
 use super::flight::translation;
 use super::impulse::FrictionMode;
 use super::integrator::{Step, body_rate, tangent_block};
+use super::pivot::Pivot;
 use super::rest::Slide;
 use super::state::{BodyState, Side};
 use crate::geometry::FeaturePair;
@@ -33,6 +34,8 @@ pub struct Segment {
     /// The body slides on a static plane from `t0` on (closed form, see
     /// [`Slide`]).
     pub slide: Option<Slide>,
+    /// The body pivots on a line of support from `t0` on (see [`Pivot`]).
+    pub pivot: Option<std::sync::Arc<Pivot>>,
     /// Integration steps (bodies whose rotation is integrated).
     pub steps: Vec<Step>,
 }
@@ -229,6 +232,12 @@ impl Trajectory {
                 Counters::bump(&self.counters.gravity, 1);
             }
             return (slide.at(s0, d.drag_k, tau).state, None);
+        }
+        if let Some(pivot) = &seg.pivot {
+            if self.gravity_listed {
+                Counters::bump(&self.counters.gravity, 1);
+            }
+            return (pivot.at(tau), None);
         }
         let tr = translation(&s0.x, &s0.v, &self.gravity, d.drag_k, tau);
         if self.gravity_listed {
@@ -475,10 +484,19 @@ impl Trajectory {
     }
 
     /// Whether `body` leans on obstacle `o` at time `t` (resting on
-    /// anything, or sliding on `o`): the pair needs no event search.
+    /// anything, or sliding or pivoting on `o`): the pair needs no event
+    /// search.
     pub fn supported_by(&self, body: usize, t: f64, o: usize) -> bool {
         let seg = &self.tracks[body].segments[self.segment_index(body, t, Side::Post)];
-        seg.rest || seg.slide.is_some_and(|s| s.obstacle == o)
+        seg.rest
+            || seg.slide.is_some_and(|s| s.obstacle == o)
+            || seg.pivot.as_ref().is_some_and(|p| p.obstacle == o)
+    }
+
+    /// The pivot `body` follows at time `t`, if any.
+    pub fn pivot(&self, body: usize, t: f64, side: Side) -> Option<&Pivot> {
+        let i = self.segment_index(body, t, side);
+        self.tracks[body].segments[i].pivot.as_deref()
     }
 
     /// Whether `s` is the frozen state of a body at rest (resting bodies

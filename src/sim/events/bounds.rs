@@ -51,6 +51,13 @@ impl World<'_, '_> {
             return [(0.0, 0.0); 2];
         }
         let d = &self.traj.dynamics[i];
+        if let Some(pv) = self.traj.pivot(i, t, Side::Post) {
+            // Turning about a fixed line: every point within `lever + reach`
+            // of it, at most `w_max` (the centre's acceleration is in
+            // `slide_decel`).
+            let lever = (s.x - pv.point).norm();
+            return [(pv.w_max * (lever + d.reach), 0.0); 2];
+        }
         let lin = self.traj.gravity.norm() + self.slide_decel(i, t);
         let w = s.w.norm();
         if !d.integrate {
@@ -122,8 +129,12 @@ impl World<'_, '_> {
     }
 
     /// The friction deceleration of a sliding body at `t` (0 when not
-    /// sliding): its acceleration is bounded by `|g|` plus this.
+    /// sliding), or the bound on a pivoting body's centre acceleration: its
+    /// acceleration is bounded by `|g|` plus this.
     pub(super) fn slide_decel(&self, body: usize, t: f64) -> f64 {
+        if let Some(pv) = self.traj.pivot(body, t, Side::Post) {
+            return pv.accel_max;
+        }
         self.traj
             .slide(body, t, Side::Post)
             .map_or(0.0, |s| s.decel)
@@ -146,6 +157,11 @@ impl World<'_, '_> {
             return (-frame_g, 0.0, 0.0, 0.0);
         }
         let g = self.traj.gravity;
+        if let Some(pv) = self.traj.pivot(i, t, Side::Post) {
+            // The hinge's force and gravity together: the centre's whole
+            // acceleration is bounded by `accel_max`.
+            return (-frame_g, pv.accel_max, pv.w_max, pv.alpha_max);
+        }
         let drag = d.drag_k.unwrap_or(0.0) * (s.v.norm() + g.norm());
         let (exact, rem) = match self.traj.slide(i, t, Side::Post) {
             Some(sl) => (-frame_g, sl.accel.norm() + sl.decel + drag),

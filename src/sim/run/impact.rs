@@ -278,7 +278,27 @@ impl Sim<'_> {
             .chain(pair.b_body())
             .map(|i| self.rest_thresholds(i).0)
             .fold(0.0, f64::max);
-        if mode == Mode::Bounce
+        // A Zeno-regime impact on a line of support starts a pivot
+        // (`sim::pivot`) instead of a micro-collision.
+        let pivot = match pair.b {
+            Party::Obstacle(o)
+                if mode == Mode::Bounce
+                    && !frozen_a
+                    && !anchored
+                    && res.separation < v_min
+                    && -res.approach < rest::MICRO * v_min =>
+            {
+                let post = BodyState {
+                    v: res.va,
+                    w: res.wa,
+                    ..sa
+                };
+                self.try_pivot(a, o, contact.part_b, &post, tc)
+            }
+            _ => None,
+        };
+        if pivot.is_none()
+            && mode == Mode::Bounce
             && !b_rests
             && res.separation < v_min
             && -res.approach < rest::MICRO * v_min
@@ -310,6 +330,9 @@ impl Sim<'_> {
                 slide = Some(*sl);
             }
             Mode::Bounce => {}
+        }
+        if let Some((_, start)) = &pivot {
+            post_a = *start;
         }
         // A body that rests or slides lying on a face lies on it exactly
         // (see `sim::settle`); a frozen body held in place stays as it is.
@@ -462,7 +485,9 @@ impl Sim<'_> {
             post: [post_a, post_b.unwrap_or(post_a)],
         };
         self.traj.events.push(event);
-        if !(anchored && frozen_a) {
+        if let Some((pv, _)) = pivot {
+            self.start_pivot(a, tc, post_a, ja, pv);
+        } else if !(anchored && frozen_a) {
             self.start_segment(a, tc, post_a, ja, rest, slide);
         }
         if let (Some(j), Some(s)) = (pair.b_body(), post_b)
@@ -628,6 +653,7 @@ impl Sim<'_> {
             j0,
             rest,
             slide,
+            pivot: None,
             steps: Vec::new(),
         });
         // Resting and sliding bodies move in closed form: nothing to integrate.

@@ -1,0 +1,445 @@
+//! Pivoting on an edge: a sustained contact along a line of support with
+//! sticking friction, moved as a hinge (one degree of freedom).
+//!
+//! A body standing on an edge (a box tipped onto an edge, scissors landed
+//! on the edge of their blades and handle) turns about that edge while
+//! gravity topples it or rocks it back. As impacts only, that motion is a
+//! train of micro-collisions at the edge (`sim::rest`, rule 3), each a hop
+//! of at least `2 v_r / g`: some 250 events for the scissors of
+//! `scenes/scissors-bounce.toml` toppling over on the peg in 0.22 s.
+//!
+//! When an impact against an obstacle falls in the Zeno regime and the
+//! body's support points on that obstacle lie on one line ([`Pivot::enter`]),
+//! the body pivots instead: the contact line is fixed, the body keeps only
+//! its rotation about it — a plastic impact of the whole edge, which keeps
+//! the angular momentum about the line, `θ̇ = a·H_p / I_a` with `H_p` the
+//! momentum about a point of the line and `I_a = aᵀ I_p a` the inertia about
+//! it (constant while it turns about the line) — and turns by
+//! `I_a θ̈ = a·(r(θ) × m g)`, a pendulum integrated by fixed-step RK4 (step
+//! [`STEP`]) when the pivot starts, up to its end:
+//!
+//! - **lands**: a body point off the line reaches the plane of the contact
+//!   (the body rolls onto a face): an ordinary impact there;
+//! - **lifts off**: the normal force at either end of the line (from the
+//!   hinge's force and moment balance) would turn negative;
+//! - **slips**: the tangential force leaves the friction cone (taken on the
+//!   total contact force);
+//! - or the simulation ends.
+//!
+//! After lift-off or slip the body flies on freely from the same state.
+//! Energy is conserved within the pivot (the hinge does no work); it is
+//! lost only at the impact that starts it. While pivoting, the body's pair
+//! with the supporting obstacle is not searched: the landing is found on
+//! the contact plane (a half-space, or the face the edge lies on, taken as
+//! unbounded), which is all of that obstacle the pivot sees. The body's
+//! Jacobian is lost from the pivot on (`TangentError::Contact`): the start
+//! and end times jump with the controls and the hinge's tangent is not
+//! propagated.
+
+use super::dynamics::BodyDynamics;
+use super::state::BodyState;
+use crate::geometry::{NearPoint, PartKind};
+use crate::math::{Vec3, exp_so3};
+use crate::scene::Scene;
+use nalgebra::UnitQuaternion;
+
+/// Integration step of the hinge angle, s.
+pub const STEP: f64 = 1e-4;
+
+/// Why a pivot ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PivotEnd {
+    /// A body point off the line reaches the contact plane: an impact.
+    Lands,
+    /// A normal force at the line's ends would pull: free flight.
+    LiftsOff,
+    /// The friction cone is left: free flight (micro-collisions again).
+    Slips,
+    /// The simulation ends first.
+    Duration,
+}
+
+/// A body turning about a fixed line of support (see the module notes).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pivot {
+    /// The supporting obstacle (its pair is not searched while pivoting)
+    /// and the part of it that the line lies on.
+    pub obstacle: usize,
+    pub part: usize,
+    /// A point of the line, world, m (the first support end).
+    pub point: Vec3,
+    /// Unit direction of the line.
+    pub axis: Vec3,
+    /// Unit contact normal, out of the obstacle.
+    pub normal: Vec3,
+    /// The other end of the support, along `axis` from `point`, m.
+    pub length: f64,
+    /// Orientation and centre of mass relative to `point` at `θ = 0`.
+    q0: UnitQuaternion<f64>,
+    r0: Vec3,
+    /// `θ̈ = c_cos cos θ + c_sin sin θ`, 1/s².
+    c_cos: f64,
+    c_sin: f64,
+    /// `(θ, θ̇)` every [`STEP`] from the start.
+    table: Vec<[f64; 2]>,
+    /// Duration of the pivot, s, and why it ends.
+    pub duration: f64,
+    pub end: PivotEnd,
+    /// At a landing: the body point that lands (its part, and its offset
+    /// from the centre of mass in the body frame).
+    pub landing: Option<(usize, Vec3)>,
+    /// Bounds over the pivot: spin, angular acceleration and the
+    /// acceleration of the centre of mass (rad/s, rad/s², m/s²).
+    pub w_max: f64,
+    pub alpha_max: f64,
+    pub accel_max: f64,
+}
+
+/// Everything [`Pivot::enter`] needs about the impact.
+pub(crate) struct PivotStart<'a> {
+    pub scene: &'a Scene,
+    pub dynamics: &'a BodyDynamics,
+    pub gravity: Vec3,
+    pub body: usize,
+    pub obstacle: usize,
+    pub part: usize,
+    /// Post-impulse state (ordinary impulse).
+    pub post: BodyState,
+    /// Support points on the obstacle (within the support band).
+    pub supports: &'a [NearPoint],
+    /// Friction coefficient of the pair.
+    pub friction: f64,
+    /// Longest the pivot may last, s.
+    pub horizon: f64,
+}
+
+/// Body points of body `i`: part, offset from the centre of mass in the
+/// body frame, radius (0 for hull vertices).
+fn points(scene: &Scene, i: usize) -> Vec<(usize, Vec3, f64)> {
+    let mut out = Vec::new();
+    for (k, p) in scene.bodies[i].geometry.parts.iter().enumerate() {
+        match &p.kind {
+            PartKind::Ball { radius } => out.push((k, p.offset.translation.vector, *radius)),
+            PartKind::Convex { .. } => out.extend(p.vertices().into_iter().map(|v| (k, v, 0.0))),
+            _ => {}
+        }
+    }
+    out
+}
+
+impl Pivot {
+    /// The pivot that an impact in the Zeno regime starts, with the state
+    /// it starts from, or `None` when the supports are not one line, do not
+    /// hold the line in contact (lift-off or slip at once), or a point off
+    /// the line already meets the plane.
+    pub(crate) fn enter(p: &PivotStart<'_>) -> Option<(Pivot, BodyState)> {
+        let g = p.gravity;
+        let d = p.dynamics;
+        let s = &p.post;
+        if g.norm() == 0.0 || p.friction <= 0.0 || p.supports.len() < 2 {
+            return None;
+        }
+        let n = p.supports[0].normal;
+        if p.supports.iter().any(|q| q.normal.dot(&n) < 1.0 - 1e-6) {
+            return None;
+        }
+        // The two supports farthest apart make the line; every other must
+        // lie on it.
+        let (mut i1, mut i2, mut far) = (0, 0, 0.0);
+        for (i, a) in p.supports.iter().enumerate() {
+            for (j, b) in p.supports.iter().enumerate().skip(i + 1) {
+                let l = (a.point - b.point).norm();
+                if l > far {
+                    (i1, i2, far) = (i, j, l);
+                }
+            }
+        }
+        let tol = 1e-6 * d.reach;
+        if far < 1e-3 * d.reach {
+            return None;
+        }
+        let point = p.supports[i1].point;
+        let axis = (p.supports[i2].point - point) / far;
+        let off_line = |q: &Vec3| {
+            let r = q - point;
+            (r - axis * axis.dot(&r)).norm()
+        };
+        if p.supports.iter().any(|q| off_line(&q.point) > tol) {
+            return None;
+        }
+        // Plastic impact of the whole line: keep the momentum about it.
+        let rot = *s.q.to_rotation_matrix().matrix();
+        let ic = rot * d.inertia * rot.transpose();
+        let r0 = s.x - point;
+        let ip =
+            ic + (nalgebra::Matrix3::identity() * r0.norm_squared() - r0 * r0.transpose()) * d.mass;
+        let i_a = axis.dot(&(ip * axis));
+        let h_p = ic * s.w + r0.cross(&s.v) * d.mass;
+        let rate = axis.dot(&h_p) / i_a;
+        let r_perp = r0 - axis * axis.dot(&r0);
+        let c_cos = d.mass * g.dot(&axis.cross(&r_perp)) / i_a;
+        let c_sin = -d.mass * g.dot(&r_perp) / i_a;
+        let mut pv = Pivot {
+            obstacle: p.obstacle,
+            part: p.part,
+            point,
+            axis,
+            normal: n,
+            length: far,
+            q0: s.q,
+            r0,
+            c_cos,
+            c_sin,
+            table: vec![[0.0, rate]],
+            duration: 0.0,
+            end: PivotEnd::Duration,
+            landing: None,
+            w_max: rate.abs(),
+            alpha_max: 0.0,
+            accel_max: 0.0,
+        };
+        if pv.end_at(0.0, rate, d, &ip, p.friction, &g).is_some() {
+            return None;
+        }
+        // Body points off the line, their offsets from `point` at θ = 0.
+        let pts: Vec<(usize, Vec3, f64, Vec3)> = points(p.scene, p.body)
+            .into_iter()
+            .map(|(k, v, radius)| (k, v, radius, r0 + s.q * v))
+            .filter(|(.., r)| (r - axis * axis.dot(r)).norm() > tol)
+            .collect();
+        let height = |r: &Vec3, radius: f64, th: f64| n.dot(&(exp_so3(&(axis * th)) * r)) - radius;
+        let lowest = |th: f64| {
+            pts.iter()
+                .map(|(k, v, radius, r)| (height(r, *radius, th), *k, *v))
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+        };
+        // Every point off the line starts on the outer side of the contact
+        // plane (a body reaching down beside the support, a hat's brim
+        // around a pole, is not on one face), and nothing else of the
+        // obstacle rises into the space the body sweeps.
+        let start_low = lowest(0.0).map_or(f64::INFINITY, |l| l.0);
+        if start_low < -tol {
+            return None;
+        }
+        let all: Vec<(usize, Vec3, f64, Vec3)> = points(p.scene, p.body)
+            .into_iter()
+            .map(|(k, v, radius)| (k, v, radius, r0 + s.q * v))
+            .collect();
+        let mut swept = [(f64::INFINITY, f64::NEG_INFINITY); 3];
+        pv.sweep(&mut swept, &all, 0.0);
+        // Points move at most this far between two samples of the sweep.
+        let reach = all
+            .iter()
+            .map(|(.., radius, r)| r.norm() + radius)
+            .fold(0.0, f64::max);
+        let floor = start_low.min(0.0);
+        let steps = (p.horizon / STEP).ceil().min(1e7) as usize;
+        let (mut th, mut w) = (0.0, rate);
+        for k in 0..steps {
+            let h = STEP.min(p.horizon - k as f64 * STEP);
+            let (th1, w1) = pv.rk4(th, w, h);
+            let t1 = k as f64 * STEP + h;
+            pv.sweep(&mut swept, &all, th1);
+            pv.w_max = pv.w_max.max(w1.abs());
+            let alpha = pv.accel(th1);
+            pv.alpha_max = pv.alpha_max.max(alpha.abs());
+            let lever = (exp_so3(&(axis * th1)) * r0).norm();
+            pv.accel_max = pv.accel_max.max((alpha.abs() + w1 * w1) * lever);
+            if let Some(l) = lowest(th1)
+                && l.0 < floor
+            {
+                // Lands between the steps: bisect the step on the height.
+                let (mut lo, mut hi) = (0.0, h);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    let (tm, _) = pv.rk4(th, w, mid);
+                    if lowest(tm).is_some_and(|m| m.0 < floor) {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                let (tl, _) = pv.rk4(th, w, hi);
+                pv.duration = k as f64 * STEP + hi;
+                pv.end = PivotEnd::Lands;
+                pv.landing = lowest(tl).map(|m| (m.1, m.2));
+                return pv.started(s, p, &swept, reach);
+            }
+            let rot1 = *(exp_so3(&(axis * th1)) * s.q).to_rotation_matrix().matrix();
+            let r1 = exp_so3(&(axis * th1)) * r0;
+            let ip1 = rot1 * d.inertia * rot1.transpose()
+                + (nalgebra::Matrix3::identity() * r1.norm_squared() - r1 * r1.transpose())
+                    * d.mass;
+            if let Some(end) = pv.end_at(th1, w1, d, &ip1, p.friction, &g) {
+                pv.duration = t1;
+                pv.end = end;
+                pv.table.push([th1, w1]);
+                return pv.started(s, p, &swept, reach);
+            }
+            (th, w) = (th1, w1);
+            pv.table.push([th, w]);
+        }
+        pv.duration = p.horizon;
+        pv.started(s, p, &swept, reach)
+    }
+
+    /// Whether the obstacle leaves free `swept`, a box that holds the
+    /// body all through the pivot (intervals along the line, across it in
+    /// the contact plane, and up from the plane, relative to `point`); the
+    /// touching part only has to stay below the plane. A separating axis
+    /// among the box's three proves a part clear; a part that none
+    /// separates (or an unbounded part other than the touching one)
+    /// refuses the pivot.
+    fn clear(&self, p: &PivotStart<'_>, swept: &[(f64, f64); 3]) -> bool {
+        let (a, n) = (self.axis, self.normal);
+        let b = a.cross(&n);
+        let tol = 1e-6 * p.dynamics.reach;
+        let o = &p.scene.obstacles[p.obstacle];
+        o.geometry.parts.iter().enumerate().all(|(k, part)| {
+            let pose = o.pose * part.offset;
+            let (pts, radius): (Vec<Vec3>, f64) = match &part.kind {
+                PartKind::Ball { radius } => (vec![pose.translation.vector], *radius),
+                PartKind::Convex { .. } => (
+                    part.vertices()
+                        .iter()
+                        .map(|v| (o.pose * nalgebra::Point3::from(*v)).coords)
+                        .collect(),
+                    0.0,
+                ),
+                _ => return k == self.part,
+            };
+            let span = |dir: &Vec3| {
+                pts.iter()
+                    .map(|q| dir.dot(&(q - self.point)))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                        (lo.min(x - radius), hi.max(x + radius))
+                    })
+            };
+            let apart = |(lo, hi): (f64, f64), (s_lo, s_hi): (f64, f64)| hi < s_lo || lo > s_hi;
+            let (_, hi_n) = span(&n);
+            apart(span(&a), swept[0]) || apart(span(&b), swept[1]) || hi_n <= tol
+        })
+    }
+
+    /// Widen `swept` to hold the body points `r` (offsets from `point`,
+    /// with radii) turned by `th`.
+    fn sweep(&self, swept: &mut [(f64, f64); 3], pts: &[(usize, Vec3, f64, Vec3)], th: f64) {
+        let turn = exp_so3(&(self.axis * th));
+        let dirs = [self.axis, self.axis.cross(&self.normal), self.normal];
+        for (.., radius, r) in pts {
+            let r = turn * r;
+            for (iv, d) in swept.iter_mut().zip(&dirs) {
+                let x = d.dot(&r);
+                *iv = (iv.0.min(x - radius), iv.1.max(x + radius));
+            }
+        }
+    }
+
+    /// The pivot and its start, if the obstacle leaves its sweep free.
+    fn started(
+        self,
+        s: &BodyState,
+        p: &PivotStart<'_>,
+        swept: &[(f64, f64); 3],
+        reach: f64,
+    ) -> Option<(Pivot, BodyState)> {
+        // A landing within the first step is an impact of two supports at
+        // once, not a pivot: it stays a micro-collision.
+        if self.end == PivotEnd::Lands && self.duration < STEP {
+            return None;
+        }
+        let pad = reach * self.w_max * STEP + 1e-6 * p.dynamics.reach;
+        let swept = swept.map(|(lo, hi)| (lo - pad, hi + pad));
+        if !self.clear(p, &swept) {
+            return None;
+        }
+        let start = self.at(0.0);
+        debug_assert!((start.x - s.x).norm() <= 1e-9 * (1.0 + s.x.norm()));
+        Some((self, start))
+    }
+
+    fn accel(&self, th: f64) -> f64 {
+        self.c_cos * th.cos() + self.c_sin * th.sin()
+    }
+
+    fn rk4(&self, th: f64, w: f64, h: f64) -> (f64, f64) {
+        let k1 = (w, self.accel(th));
+        let k2 = (w + 0.5 * h * k1.1, self.accel(th + 0.5 * h * k1.0));
+        let k3 = (w + 0.5 * h * k2.1, self.accel(th + 0.5 * h * k2.0));
+        let k4 = (w + h * k3.1, self.accel(th + h * k3.0));
+        (
+            th + h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0),
+            w + h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1),
+        )
+    }
+
+    /// Whether the hinge stops holding at angle `th`, rate `w` (inertia
+    /// about `point` there `ip`): a normal force at an end of the line
+    /// below zero, or the total force outside the friction cone.
+    fn end_at(
+        &self,
+        th: f64,
+        w: f64,
+        d: &BodyDynamics,
+        ip: &nalgebra::Matrix3<f64>,
+        friction: f64,
+        g: &Vec3,
+    ) -> Option<PivotEnd> {
+        let a = self.axis;
+        let r = exp_so3(&(a * th)) * self.r0;
+        let alpha = a * self.accel(th);
+        let omega = a * w;
+        let acc = alpha.cross(&r) + omega.cross(&omega.cross(&r));
+        // Contact force and moment about `point` that keep the hinge.
+        let f = (acc - g) * d.mass;
+        let m = ip * alpha + omega.cross(&(ip * omega)) - r.cross(&(g * d.mass));
+        let n = self.normal;
+        let fn_total = f.dot(&n);
+        let n2 = m.dot(&a.cross(&n)) / self.length;
+        let n1 = fn_total - n2;
+        let scale = 1e-9 * d.mass * g.norm();
+        if n1 < -scale || n2 < -scale {
+            return Some(PivotEnd::LiftsOff);
+        }
+        if (f - n * fn_total).norm() > friction * fn_total + scale {
+            return Some(PivotEnd::Slips);
+        }
+        None
+    }
+
+    /// Angle and rate `tau` seconds into the pivot.
+    fn angle(&self, tau: f64) -> (f64, f64) {
+        let tau = tau.clamp(0.0, self.duration);
+        let k = ((tau / STEP).floor() as usize).min(self.table.len() - 1);
+        let [th, w] = self.table[k];
+        let rest = tau - k as f64 * STEP;
+        if rest <= 0.0 {
+            (th, w)
+        } else {
+            self.rk4(th, w, rest)
+        }
+    }
+
+    /// The body's state `tau` seconds into the pivot.
+    pub fn at(&self, tau: f64) -> BodyState {
+        let (th, w) = self.angle(tau);
+        let turn = exp_so3(&(self.axis * th));
+        let r = turn * self.r0;
+        let omega = self.axis * w;
+        BodyState {
+            x: self.point + r,
+            q: turn * self.q0,
+            v: omega.cross(&r),
+            w: omega,
+        }
+    }
+
+    /// Mechanical energy `½ I_a θ̇² − m g·r` (J, up to a constant) `tau`
+    /// seconds in, for the tests: the hinge does no work.
+    pub fn energy(&self, d: &BodyDynamics, g: &Vec3, tau: f64) -> f64 {
+        let s = self.at(tau);
+        let rot = *s.q.to_rotation_matrix().matrix();
+        let ic = rot * d.inertia * rot.transpose();
+        0.5 * (d.mass * s.v.norm_squared() + s.w.dot(&(ic * s.w))) - d.mass * g.dot(&s.x)
+    }
+}

@@ -1,0 +1,124 @@
+//! Pivots in the run loop: starting one at a Zeno-regime impact, and its
+//! end — a landing impact, or free flight after lift-off or slip (see
+//! `sim::pivot`).
+
+use super::*;
+use crate::sim::pivot::{Pivot, PivotEnd, PivotStart};
+
+impl Sim<'_> {
+    /// The pivot that an impact of body `a` on obstacle `o` (its part
+    /// `part`) in the Zeno regime starts, if its supports make one line on
+    /// that obstacle and touch no other.
+    pub(super) fn try_pivot(
+        &self,
+        a: usize,
+        o: usize,
+        part: usize,
+        post: &BodyState,
+        tc: f64,
+    ) -> Option<(Pivot, BodyState)> {
+        let scene = self.scene;
+        let d = &self.traj.dynamics[a];
+        let (_, band) = rest::thresholds(scene, d, &self.traj.gravity, self.tol.arm);
+        let elsewhere = (0..scene.obstacles.len())
+            .filter(|&k| k != o)
+            .any(|k| !rest::supports(scene, a, k, post, band).is_empty());
+        if elsewhere {
+            return None;
+        }
+        let supports = rest::supports(scene, a, o, post, band);
+        Pivot::enter(&PivotStart {
+            scene,
+            dynamics: d,
+            gravity: self.traj.gravity,
+            body: a,
+            obstacle: o,
+            part,
+            post: *post,
+            supports: &supports,
+            friction: rest::pair_friction(scene, a, o),
+            horizon: self.traj.duration - tc,
+        })
+    }
+
+    /// Start body `i` pivoting at `t0` from `start`; its Jacobian is lost
+    /// from here on (`TangentError::Contact`).
+    pub(super) fn start_pivot(
+        &mut self,
+        i: usize,
+        t0: f64,
+        start: BodyState,
+        j0: DMatrix<f64>,
+        pivot: Pivot,
+    ) {
+        self.forget_searches(i);
+        self.traj.tracks[i].segments.push(Segment {
+            t0,
+            start,
+            j0,
+            rest: false,
+            slide: None,
+            pivot: Some(std::sync::Arc::new(pivot)),
+            steps: Vec::new(),
+        });
+        self.cursors[i] = None;
+        if self.traj.tangent {
+            let e = TangentError::Contact { t: t0 };
+            self.traj.tangent_lost[i].get_or_insert((t0, e));
+            self.traj.tangent_error.get_or_insert(e);
+        }
+    }
+
+    /// The earliest end of a pivot in progress (time, body), other than
+    /// the end of the simulation.
+    pub(super) fn next_pivot_end(&self) -> Option<(f64, usize)> {
+        self.traj
+            .tracks
+            .iter()
+            .enumerate()
+            .filter_map(|(i, track)| {
+                let seg = track.segments.last()?;
+                let pv = seg.pivot.as_ref()?;
+                (pv.end != PivotEnd::Duration).then_some((seg.t0 + pv.duration, i))
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+    }
+
+    /// End body `i`'s pivot at `te`: the landing point's impact, or free
+    /// flight from the same state.
+    pub(super) fn end_pivot(&mut self, te: f64, i: usize) -> Result<(), SimError> {
+        let Some(pv) = self.traj.tracks[i]
+            .segments
+            .last()
+            .and_then(|s| s.pivot.clone())
+        else {
+            return Ok(());
+        };
+        let s = self.traj.state(i, te, Side::Post);
+        let Some(k) = self
+            .pairs
+            .iter()
+            .position(|p| p.a == i && p.b == Party::Obstacle(pv.obstacle))
+        else {
+            return Ok(());
+        };
+        if let (PivotEnd::Lands, Some((part, v))) = (pv.end, pv.landing) {
+            let point_a = s.point(&v);
+            let n = pv.normal;
+            let contact = crate::geometry::Contact {
+                distance: 0.0,
+                normal: n,
+                point_a,
+                point_b: point_a - n * n.dot(&(point_a - pv.point)),
+                part_a: part,
+                part_b: pv.part,
+            };
+            return self.impact(te, k, &contact);
+        }
+        let m = self.traj.m;
+        self.start_segment(i, te, s, DMatrix::zeros(12, m), false, None);
+        self.pairs[k].armed = false;
+        self.pairs[k].hold = te;
+        Ok(())
+    }
+}

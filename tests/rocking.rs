@@ -1,0 +1,190 @@
+//! Pivoting on an edge instead of chattering on it (docs/design.md §4,
+//! `sim::pivot`): a body standing or rocking on an edge turns about it as a
+//! hinge and lands on its face in a few events.
+
+use nudge::controls::Controls;
+use nudge::geometry::Geometry;
+use nudge::math::Vec3;
+use nudge::scene::Scene;
+use nudge::sim::{PivotEnd, Side, SimOptions, TangentError, Trajectory, simulate};
+use nudge::testkit;
+
+fn run(s: &Scene, opts: &SimOptions) -> Trajectory {
+    simulate(s, &Controls::new(s), opts).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Mechanical energy of body 0 (J): kinetic plus gravity's potential.
+fn energy(tr: &Trajectory, t: f64) -> f64 {
+    let d = &tr.dynamics[0];
+    let s = tr.state(0, t, Side::Post);
+    let r = *s.q.to_rotation_matrix().matrix();
+    let ic = r * d.inertia * r.transpose();
+    0.5 * (d.mass * s.v.norm_squared() + s.w.dot(&(ic * s.w))) - d.mass * tr.gravity.dot(&s.x)
+}
+
+/// A 30 × 20 × 10 cm box tipped 0.35 rad about x onto its long edge,
+/// dropped 0.1 mm onto a grippy floor (friction 1, restitution 0.2).
+fn tipped_box() -> Scene {
+    let mut s = testkit::scene(2.0);
+    s.effects.friction = true;
+    s.effects.gyroscopic = true;
+    let mut floor = testkit::ground();
+    floor.friction = 1.0;
+    s.obstacles.push(floor);
+    let half = Vec3::new(0.15, 0.1, 0.05);
+    let tilt = 0.35_f64;
+    // Lowest edge: the corner line at y = +0.1, z = −0.05 in the body frame.
+    let low = 0.1 * tilt.sin() + 0.05 * tilt.cos();
+    let mut b = testkit::body(
+        "box",
+        Geometry::cuboid(half).unwrap(),
+        Vec3::new(0.0, 0.0, low + 1e-4),
+    );
+    b.orientation = Vec3::new(tilt, 0.0, 0.0);
+    b.restitution = 0.2;
+    b.friction = 1.0;
+    s.bodies.push(b);
+    s
+}
+
+/// The box topples onto its broad face: a pivot about the edge, a landing,
+/// rest lying flat — a few events, where micro-collisions took hundreds.
+#[test]
+fn a_box_tipped_onto_an_edge_pivots_over_and_rests_flat_in_a_few_events() {
+    let s = tipped_box();
+    let tr = run(&s, &SimOptions::default());
+    let pivots: Vec<_> = tr.tracks[0]
+        .segments
+        .iter()
+        .filter_map(|seg| seg.pivot.as_ref())
+        .collect();
+    assert!(!pivots.is_empty(), "no pivot: {:?}", tr.signature());
+    assert!(
+        pivots.iter().any(|p| p.end == PivotEnd::Lands),
+        "no pivot lands on a face"
+    );
+    assert!(
+        tr.events.len() <= 30,
+        "{} events: {:?}",
+        tr.events.len(),
+        tr.signature()
+    );
+    let last = tr.tracks[0].segments.last().unwrap();
+    assert!(last.rest, "the box does not rest: {:?}", tr.signature());
+    let end = tr.state(0, s.duration, Side::Post);
+    // Lying on its broad face: the body z axis vertical, centre 5 cm up.
+    let up = (end.q * Vec3::z()).z.abs();
+    assert!(
+        up > 1.0 - 1e-9,
+        "tilted at the end: body z · world z = {up}"
+    );
+    assert!((end.x.z - 0.05).abs() < 1e-6, "centre at z = {}", end.x.z);
+}
+
+/// The hinge does no work: within a pivot the mechanical energy stays
+/// put (RK4 at 0.1 ms), and no pivot starts with more than its impact left.
+#[test]
+fn energy_never_rises_while_pivoting() {
+    let s = tipped_box();
+    let tr = run(&s, &SimOptions::default());
+    let segs = &tr.tracks[0].segments;
+    let mut checked = 0;
+    for (k, seg) in segs.iter().enumerate() {
+        let Some(pv) = &seg.pivot else { continue };
+        let t0 = seg.t0;
+        let e0 = energy(&tr, t0);
+        let scale = tr.dynamics[0].mass * 9.81 * 0.1;
+        for i in 1..=200 {
+            let t = t0 + pv.duration * f64::from(i) / 200.0;
+            let t = if k + 1 < segs.len() {
+                t.min(segs[k + 1].t0 - 1e-12)
+            } else {
+                t
+            };
+            let e = energy(&tr, t);
+            assert!(
+                e <= e0 + 1e-9 * scale,
+                "energy rose by {:.3e} J at t = {t} in the pivot from {t0}",
+                e - e0
+            );
+            assert!(
+                (e - e0).abs() <= 1e-9 * scale,
+                "energy drifted by {:.3e} J",
+                e - e0
+            );
+        }
+        // The impact that starts the pivot only takes energy away.
+        let pre = tr
+            .events
+            .iter()
+            .find(|e| e.t == t0)
+            .map(|e| e.pre[0])
+            .unwrap();
+        let d = &tr.dynamics[0];
+        let r = *pre.q.to_rotation_matrix().matrix();
+        let ic = r * d.inertia * r.transpose();
+        let before = 0.5 * (d.mass * pre.v.norm_squared() + pre.w.dot(&(ic * pre.w)))
+            - d.mass * tr.gravity.dot(&pre.x);
+        assert!(e0 <= before + 1e-12 * scale, "the pivot start added energy");
+        checked += 1;
+    }
+    assert!(checked > 0, "no pivot to check");
+}
+
+/// The pivot's start and end times jump with the controls: the body's
+/// Jacobian is flagged lost from the pivot on (the solver samples), and is
+/// exact before it.
+#[test]
+fn the_jacobian_is_lost_from_a_pivot_on_and_kept_before_it() {
+    let mut s = tipped_box();
+    testkit::free_state(&mut s);
+    let tr = run(&s, &SimOptions::default());
+    let t_pivot = tr.tracks[0]
+        .segments
+        .iter()
+        .find(|seg| seg.pivot.is_some())
+        .map(|seg| seg.t0)
+        .unwrap();
+    assert!(tr.jacobian(0, 0.5 * t_pivot, Side::Post).is_ok());
+    assert!(matches!(
+        tr.jacobian(0, t_pivot, Side::Post),
+        Err(TangentError::Contact { .. })
+    ));
+}
+
+/// The edited landing of the scissors-bounce session (the scene its
+/// keystrokes save, `tests/sessions/scissors-bounce.keys`): the scissors
+/// land on the padded peg on their edge. They chattered there in some 540
+/// micro-collisions over 0.45 s; pivoting, they settle in a few events and
+/// rest on the peg.
+#[test]
+fn the_scissors_bounce_landing_settles_in_a_few_events() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/rocking/scissors-bounce-edited.toml"
+    );
+    let s = nudge::scene::load(std::path::Path::new(path)).unwrap_or_else(|e| panic!("{e}"));
+    let tr = run(&s, &SimOptions::without_tangents());
+    assert!(
+        tr.events.len() <= 50,
+        "{} events: {:?}",
+        tr.events.len(),
+        tr.signature()
+    );
+    assert_eq!(
+        tr.events
+            .iter()
+            .filter(|e| e.b == nudge::sim::Party::Obstacle(0))
+            .count(),
+        1,
+        "one bounce off the floor"
+    );
+    let last = tr.tracks[0].segments.last().unwrap();
+    assert!(last.rest, "the scissors do not rest");
+    let end = tr.state(0, s.duration, Side::Post);
+    assert!(
+        (0.44..=0.68).contains(&end.x.x) && end.x.y.abs() < 0.08 && (1.31..1.40).contains(&end.x.z),
+        "they end at {:?}, not on the low peg",
+        end.x
+    );
+}
