@@ -207,10 +207,11 @@ impl Pivot {
             .map(|(k, v, radius)| (k, v, radius, r0 + s.q * v))
             .filter(|(.., r)| (r - axis * axis.dot(r)).norm() > tol)
             .collect();
-        let height = |r: &Vec3, radius: f64, th: f64| n.dot(&(exp_so3(&(axis * th)) * r)) - radius;
         let lowest = |th: f64| {
+            // One turn for every point (the same product as turning each).
+            let turn = exp_so3(&(axis * th));
             pts.iter()
-                .map(|(k, v, radius, r)| (height(r, *radius, th), *k, *v))
+                .map(|(k, v, radius, r)| (n.dot(&(turn * r)) - radius, *k, *v))
                 .min_by(|a, b| a.0.total_cmp(&b.0))
         };
         // Every point off the line starts on the outer side of the contact
@@ -225,8 +226,8 @@ impl Pivot {
             .into_iter()
             .map(|(k, v, radius)| (k, v, radius, r0 + s.q * v))
             .collect();
-        let mut swept = [(f64::INFINITY, f64::NEG_INFINITY); 3];
-        pv.sweep(&mut swept, &all, 0.0);
+        // The angles the body turns through (the sweep is their box).
+        let (mut th_lo, mut th_hi) = (0.0_f64, 0.0_f64);
         // Points move at most this far between two samples of the sweep.
         let reach = all
             .iter()
@@ -239,7 +240,7 @@ impl Pivot {
             let h = STEP.min(p.horizon - k as f64 * STEP);
             let (th1, w1) = pv.rk4(th, w, h);
             let t1 = k as f64 * STEP + h;
-            pv.sweep(&mut swept, &all, th1);
+            (th_lo, th_hi) = (th_lo.min(th1), th_hi.max(th1));
             pv.w_max = pv.w_max.max(w1.abs());
             let alpha = pv.accel(th1);
             pv.alpha_max = pv.alpha_max.max(alpha.abs());
@@ -263,6 +264,7 @@ impl Pivot {
                 pv.duration = k as f64 * STEP + hi;
                 pv.end = PivotEnd::Lands;
                 pv.landing = lowest(tl).map(|m| (m.1, m.2));
+                let swept = pv.sweep(&all, th_lo, th_hi);
                 return pv.started(s, p, &swept, reach);
             }
             let rot1 = *(exp_so3(&(axis * th1)) * s.q).to_rotation_matrix().matrix();
@@ -274,12 +276,14 @@ impl Pivot {
                 pv.duration = t1;
                 pv.end = end;
                 pv.table.push([th1, w1]);
+                let swept = pv.sweep(&all, th_lo, th_hi);
                 return pv.started(s, p, &swept, reach);
             }
             (th, w) = (th1, w1);
             pv.table.push([th, w]);
         }
         pv.duration = p.horizon;
+        let swept = pv.sweep(&all, th_lo, th_hi);
         pv.started(s, p, &swept, reach)
     }
 
@@ -321,18 +325,15 @@ impl Pivot {
         })
     }
 
-    /// Widen `swept` to hold the body points `r` (offsets from `point`,
-    /// with radii) turned by `th`.
-    fn sweep(&self, swept: &mut [(f64, f64); 3], pts: &[(usize, Vec3, f64, Vec3)], th: f64) {
-        let turn = exp_so3(&(self.axis * th));
-        let dirs = [self.axis, self.axis.cross(&self.normal), self.normal];
-        for (.., radius, r) in pts {
-            let r = turn * r;
-            for (iv, d) in swept.iter_mut().zip(&dirs) {
-                let x = d.dot(&r);
-                *iv = (iv.0.min(x - radius), iv.1.max(x + radius));
-            }
-        }
+    /// The box (intervals along the line, across it in the contact plane,
+    /// and up from the plane, relative to `point`) of the points `pts`
+    /// turned through every angle in `[lo, hi]` about the line. About a
+    /// fixed axis each coordinate of a point is `c₀ + A cos(θ − φ)`, whose
+    /// extremes over an interval are at its ends or at `φ` and `φ + π`
+    /// (mod 2π): exact, and one pass over the points however long the
+    /// pivot.
+    fn sweep(&self, pts: &[(usize, Vec3, f64, Vec3)], lo: f64, hi: f64) -> [(f64, f64); 3] {
+        swept_box(&self.axis, &self.normal, pts, lo, hi)
     }
 
     /// The pivot and its start, if the obstacle leaves its sweep free.
@@ -441,5 +442,96 @@ impl Pivot {
         let rot = *s.q.to_rotation_matrix().matrix();
         let ic = rot * d.inertia * rot.transpose();
         0.5 * (d.mass * s.v.norm_squared() + s.w.dot(&(ic * s.w))) - d.mass * g.dot(&s.x)
+    }
+}
+
+/// [`Pivot::sweep`] about `axis`, with `normal` the contact plane's.
+fn swept_box(
+    axis: &Vec3,
+    normal: &Vec3,
+    pts: &[(usize, Vec3, f64, Vec3)],
+    lo: f64,
+    hi: f64,
+) -> [(f64, f64); 3] {
+    use std::f64::consts::{PI, TAU};
+    let dirs = [*axis, axis.cross(normal), *normal];
+    // Whether some `θ ≡ at (mod 2π)` lies in `[lo, hi]`.
+    let reaches = |at: f64| hi - lo >= TAU || at + TAU * ((lo - at) / TAU).ceil() <= hi;
+    let mut swept = [(f64::INFINITY, f64::NEG_INFINITY); 3];
+    for (.., radius, r) in pts {
+        let along = axis * axis.dot(r);
+        let perp = r - along;
+        let side = axis.cross(&perp);
+        for (iv, d) in swept.iter_mut().zip(&dirs) {
+            let (c0, c1, c2) = (d.dot(&along), d.dot(&perp), d.dot(&side));
+            let at = |th: f64| c0 + c1 * th.cos() + c2 * th.sin();
+            let (mut min, mut max) = (at(lo).min(at(hi)), at(lo).max(at(hi)));
+            let amp = c1.hypot(c2);
+            let phi = c2.atan2(c1);
+            if reaches(phi) {
+                max = c0 + amp;
+            }
+            if reaches(phi + PI) {
+                min = c0 - amp;
+            }
+            *iv = (iv.0.min(min - radius), iv.1.max(max + radius));
+        }
+    }
+    swept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form box against the points turned at 20,001 sampled
+    /// angles: it holds every sample and is no larger than they are (to
+    /// the angle between two samples).
+    #[test]
+    fn the_swept_box_is_the_box_of_every_turned_point() {
+        let axis = Vec3::new(0.3, -0.2, 0.9).normalize();
+        let normal = axis.cross(&Vec3::x()).normalize();
+        let pts: Vec<(usize, Vec3, f64, Vec3)> = [
+            (Vec3::new(0.4, 0.1, -0.2), 0.0),
+            (Vec3::new(-0.1, 0.3, 0.5), 0.02),
+            (Vec3::new(0.0, -0.25, 0.05), 0.0),
+        ]
+        .iter()
+        .enumerate()
+        .map(|(k, (r, radius))| (k, *r, *radius, *r))
+        .collect();
+        let dirs = [axis, axis.cross(&normal), normal];
+        for (lo, hi) in [
+            (0.0, 0.0),
+            (-0.3, 0.2),
+            (0.0, 2.5),
+            (-1.0, 4.0),
+            (-7.0, 0.5),
+        ] {
+            let boxed = swept_box(&axis, &normal, &pts, lo, hi);
+            let mut sampled = [(f64::INFINITY, f64::NEG_INFINITY); 3];
+            let n = 20_000;
+            for k in 0..=n {
+                let th = lo + (hi - lo) * k as f64 / n as f64;
+                let turn = exp_so3(&(axis * th));
+                for (.., radius, r) in &pts {
+                    let p = turn * r;
+                    for (iv, d) in sampled.iter_mut().zip(&dirs) {
+                        *iv = (iv.0.min(d.dot(&p) - radius), iv.1.max(d.dot(&p) + radius));
+                    }
+                }
+            }
+            let gap = 0.7 * (hi - lo) / n as f64;
+            for (b, s) in boxed.iter().zip(&sampled) {
+                assert!(
+                    b.0 <= s.0 + 1e-12 && b.1 >= s.1 - 1e-12,
+                    "[{lo}, {hi}]: {b:?} {s:?}"
+                );
+                assert!(
+                    b.0 >= s.0 - gap - 1e-12 && b.1 <= s.1 + gap + 1e-12,
+                    "[{lo}, {hi}]: {b:?} {s:?}"
+                );
+            }
+        }
     }
 }
