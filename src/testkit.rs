@@ -186,3 +186,51 @@ pub fn balls_in_box(
         .collect();
     Ok(scene)
 }
+
+/// Two central difference quotients of a Jacobian column that agree to this
+/// (relative to the column, or 1e-3 if smaller) resolve it: a tenth of the
+/// 1e-6 tangents are held to, so the quotients' own noise cannot decide a
+/// comparison.
+pub const RESOLVED: f64 = 1e-7;
+
+/// Column by column, the tangent `jt` of `body` at `t` against the closest
+/// of the difference quotients of `runs` (the same columns at several
+/// steps), over the columns whose collision sequence up to `t` is
+/// unchanged and that two quotients resolve: the worst relative
+/// disagreement and how many columns it covers (`None` if none does).
+pub fn resolved_agreement(
+    runs: &[crate::tangent::FiniteDifference],
+    jt: &nalgebra::DMatrix<f64>,
+    body: usize,
+    t: f64,
+) -> Option<(f64, usize)> {
+    let quotients: Vec<(Vec<bool>, nalgebra::DMatrix<f64>)> = runs
+        .iter()
+        .map(|fd| {
+            (
+                fd.comparable_until(t),
+                fd.at(body, t, crate::sim::Side::Post),
+            )
+        })
+        .collect();
+    let rel = |a: nalgebra::DVectorView<f64>, b: nalgebra::DVectorView<f64>| {
+        (a - b).norm() / b.norm().max(1e-3)
+    };
+    let mut worst: Option<(f64, usize)> = None;
+    for c in 0..jt.ncols() {
+        let cols: Vec<_> = quotients
+            .iter()
+            .filter(|(keeps, _)| keeps[c])
+            .map(|(_, j)| j.column(c))
+            .collect();
+        if !cols.windows(2).any(|w| rel(w[0], w[1]) < RESOLVED) {
+            continue;
+        }
+        let err = cols
+            .iter()
+            .map(|f| rel(jt.column(c), *f))
+            .fold(f64::INFINITY, f64::min);
+        worst = Some(worst.map_or((err, 1), |(w, n)| (w.max(err), n + 1)));
+    }
+    worst
+}

@@ -408,17 +408,23 @@ fn nudge_cli(args: &[&str]) -> std::process::Output {
 /// prints the alternatives (as JSON here); bad input is a plain error.
 #[test]
 fn the_cli_explores_after_the_keys_and_refuses_bad_input() {
-    let out = nudge_cli(&[
-        "explore",
-        "scenes/particle-polygon.toml",
-        "--keys",
-        "tests/fixtures/explore/polygon-blocked.keys",
-        "--samples",
-        "256",
-        "--seed",
-        "7",
-        "--json",
-    ]);
+    // The blocked polygon drag, 256 worlds, seed 7, as JSON; then `extra`.
+    let polygon = |extra: &[&str]| {
+        let mut args = vec![
+            "explore",
+            "scenes/particle-polygon.toml",
+            "--keys",
+            "tests/fixtures/explore/polygon-blocked.keys",
+            "--samples",
+            "256",
+            "--seed",
+            "7",
+            "--json",
+        ];
+        args.extend(extra);
+        nudge_cli(&args)
+    };
+    let out = polygon(&[]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
@@ -445,19 +451,7 @@ fn the_cli_explores_after_the_keys_and_refuses_bad_input() {
     }
 
     // --keep prints the best few of the same exploration.
-    let kept = nudge_cli(&[
-        "explore",
-        "scenes/particle-polygon.toml",
-        "--keys",
-        "tests/fixtures/explore/polygon-blocked.keys",
-        "--samples",
-        "256",
-        "--seed",
-        "7",
-        "--keep",
-        "1",
-        "--json",
-    ]);
+    let kept = polygon(&["--keep", "1"]);
     let k: serde_json::Value = serde_json::from_slice(&kept.stdout).expect("JSON");
     let first = k["alternatives"].as_array().expect("alternatives");
     assert_eq!(first.len(), 1);

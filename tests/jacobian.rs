@@ -6,7 +6,7 @@ use nudge::math::Vec3;
 use nudge::scene::{Block, Body, Effects, EventControl, Scene};
 use nudge::sim::{Side, SimOptions, simulate};
 use nudge::tangent::{FiniteDifference, Scheme, max_relative_error};
-use nudge::testkit::{self, body, body_with_inertia, ground, obstacle};
+use nudge::testkit::{self, RESOLVED, body, body_with_inertia, ground, obstacle};
 
 /// Compare tangent and central-difference Jacobians of every body at the
 /// given times and just before/after every event; returns the worst
@@ -90,50 +90,22 @@ fn fd_runs(scene: &Scene, controls: &Controls) -> Vec<FiniteDifference> {
         .collect()
 }
 
-/// Two difference quotients of a column that agree to this (relative)
-/// resolve it: a tenth of the 1e-6 the tangent is held to, so the
-/// quotients' own noise cannot decide a comparison. (At 1e-6, a box
-/// rattling on the ground through 11 impacts gave quotients 2.5e-6, 1.6e-6
-/// and 5.9e-6 off the tangent at its three steps: noise of the event
-/// times, not an error of the tangent; proptest found it.)
-const RESOLVED: f64 = 1e-7;
-
+/// Two quotients resolve a column when they agree to [`RESOLVED`]. (At
+/// 1e-6, a box rattling on the ground through 11 impacts gave quotients
+/// 2.5e-6, 1.6e-6 and 5.9e-6 off the tangent at its three steps: noise of
+/// the event times, not an error of the tangent; proptest found it.)
 /// Column by column, the tangent's disagreement with the closest of the
-/// difference quotients, over the columns whose collision sequence up to
-/// `t` is unchanged and whose quotient is resolved (two steps agree with
-/// each other to [`RESOLVED`]; right after bounces in quick succession no
-/// step in floating point resolves it). `None` if no column qualifies.
+/// difference quotients over the columns whose collision sequence up to
+/// `t` is unchanged and whose quotient is resolved (right after bounces in
+/// quick succession no step in floating point resolves it). `None` if no
+/// column qualifies.
 fn fd_agreement(
     runs: &[FiniteDifference],
     jt: &nalgebra::DMatrix<f64>,
     body: usize,
     t: f64,
 ) -> Option<f64> {
-    let quotients: Vec<(Vec<bool>, nalgebra::DMatrix<f64>)> = runs
-        .iter()
-        .map(|fd| (fd.comparable_until(t), fd.at(body, t, Side::Post)))
-        .collect();
-    let rel = |a: nalgebra::DVectorView<f64>, b: nalgebra::DVectorView<f64>| {
-        (a - b).norm() / b.norm().max(1e-3)
-    };
-    let mut worst: Option<f64> = None;
-    for c in 0..jt.ncols() {
-        let cols: Vec<_> = quotients
-            .iter()
-            .filter(|(m, _)| m[c])
-            .map(|(_, j)| j.column(c))
-            .collect();
-        let resolved = cols.windows(2).any(|w| rel(w[0], w[1]) < RESOLVED);
-        if !resolved {
-            continue;
-        }
-        let err = cols
-            .iter()
-            .map(|f| rel(jt.column(c), *f))
-            .fold(f64::INFINITY, f64::min);
-        worst = Some(worst.map_or(err, |w: f64| w.max(err)));
-    }
-    worst
+    testkit::resolved_agreement(runs, jt, body, t).map(|(worst, _)| worst)
 }
 
 /// [`check`] with the closest of three difference quotients (see

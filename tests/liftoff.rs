@@ -86,50 +86,20 @@ fn a_ball_rests_on_a_box_and_the_strike_lifts_it_off() {
     }
 }
 
-/// Two difference quotients of a column that agree to this (relative to
-/// the column, or 1e-3 if smaller) resolve it, as in tests/jacobian.rs: a
-/// tenth of the 1e-6 the tangent is held to.
-const RESOLVED: f64 = 1e-7;
-
-/// Column by column over the columns whose event sequence up to `t` is
-/// unchanged and whose central difference quotients (steps 1e-6 down to
-/// 1.5e-8) resolve it, the tangent's disagreement with the closest
-/// quotient, relative to the column; and how many columns that was.
+/// Over the columns whose event sequence up to `t` is unchanged and whose
+/// central difference quotients (steps 1e-6 down to 1.5e-8) resolve it,
+/// the tangent's worst disagreement with the closest quotient, relative to
+/// the column; and how many columns that was.
 fn disagreement(s: &Scene, tr: &Trajectory, body: usize, t: f64) -> (f64, usize) {
     let controls = Controls::new(s);
     let jt = tr.jacobian(body, t, Side::Post).expect("tangent");
-    let fds: Vec<FiniteDifference> = [1e-6, 2.5e-7, 6.25e-8, 1.5e-8]
+    let runs: Vec<FiniteDifference> = [1e-6, 2.5e-7, 6.25e-8, 1.5e-8]
         .iter()
         .map(|h| {
             FiniteDifference::with_steps(s, &controls, Scheme::Central, Some(*h)).expect("runs")
         })
         .collect();
-    let rel = |a: nalgebra::DVectorView<f64>, b: nalgebra::DVectorView<f64>| {
-        (a - b).norm() / b.norm().max(1e-3)
-    };
-    let quotients: Vec<_> = fds
-        .iter()
-        .map(|fd| (fd.comparable_until(t), fd.at(body, t, Side::Post)))
-        .collect();
-    let mut worst: f64 = 0.0;
-    let mut compared = 0;
-    for c in 0..controls.m() {
-        let cols: Vec<_> = quotients
-            .iter()
-            .filter(|(keeps, _)| keeps[c])
-            .map(|(_, j)| j.column(c))
-            .collect();
-        if !cols.windows(2).any(|w| rel(w[0], w[1]) < RESOLVED) {
-            continue;
-        }
-        let err = cols
-            .iter()
-            .map(|f| rel(jt.column(c), *f))
-            .fold(f64::INFINITY, f64::min);
-        worst = worst.max(err);
-        compared += 1;
-    }
-    (worst, compared)
+    testkit::resolved_agreement(&runs, &jt, body, t).unwrap_or((0.0, 0))
 }
 
 #[test]
