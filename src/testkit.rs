@@ -234,3 +234,69 @@ pub fn resolved_agreement(
     }
     worst
 }
+
+/// Compare tangent and central-difference Jacobians of every body at the
+/// given times and just before/after every event; returns the worst
+/// relative error over comparable columns, and which columns those are
+/// (their perturbed runs keep the collision sequence). Panics, naming the
+/// place, where the error reaches `tol` (a test helper).
+pub fn check_against_central(scene: &Scene, times: &[f64], tol: f64) -> (f64, Vec<bool>) {
+    // Event times are differenced over steps of ~1e-5: refine roots far
+    // below that so the quotient's noise (root_tol / (|v_n| h)) stays small.
+    let mut scene = scene.clone();
+    scene.accuracy.root_tol = 1e-14;
+    let scene = &scene;
+    let controls = crate::controls::Controls::new(scene);
+    let tr = crate::sim::simulate(scene, &controls, &crate::sim::SimOptions::default())
+        .expect("simulates");
+    assert!(tr.tangent_error.is_none(), "{:?}", tr.tangent_error);
+    let fd =
+        crate::tangent::FiniteDifference::new(scene, &controls, crate::tangent::Scheme::Central)
+            .expect("perturbed runs");
+    assert!(
+        fd.comparable.iter().any(|c| *c),
+        "some column must keep the signature"
+    );
+    let mut worst: f64 = 0.0;
+    for b in 0..scene.bodies.len() {
+        for &t in times {
+            let jt = tr.jacobian(b, t, crate::sim::Side::Post).expect("jacobian");
+            let jf = fd.at(b, t, crate::sim::Side::Post);
+            let err = crate::tangent::max_relative_error(&jt, &jf, &fd.comparable, 1e-3);
+            assert!(
+                err < tol,
+                "body {b} t={t}: relative error {err:.2e}\ntangent {jt:.6}\nfd {jf:.6}"
+            );
+            worst = worst.max(err);
+        }
+    }
+    for (k, ev) in tr.events.iter().enumerate() {
+        // Floating quantities: the state at each run's own event time.
+        for side in [crate::sim::Side::Pre, crate::sim::Side::Post] {
+            let fl = fd.at_event(k, ev.a, side).expect("same events");
+            let jt = tr
+                .jacobian_at_event(ev.a, ev, side)
+                .expect("jacobian and dt/du");
+            let err = crate::tangent::max_relative_error(&jt, &fl, &fd.comparable, 1e-3);
+            assert!(
+                err < tol,
+                "event {k} {side:?}: relative error {err:.2e}\ntangent {jt:.6}\nfd {fl:.6}"
+            );
+            worst = worst.max(err);
+        }
+        let dtf = fd.event_time(k).expect("event times");
+        let dtt = ev.dt_du.as_ref().expect("dt/du");
+        for c in 0..dtf.len() {
+            if fd.comparable[c] {
+                let e = (dtt[c] - dtf[c]).abs() / dtf[c].abs().max(1e-3);
+                assert!(
+                    e < tol,
+                    "event {k} dt/du column {c}: {} vs {}",
+                    dtt[c],
+                    dtf[c]
+                );
+            }
+        }
+    }
+    (worst, fd.comparable)
+}
