@@ -188,3 +188,105 @@ fn the_scissors_bounce_landing_settles_in_a_few_events() {
         end.x
     );
 }
+
+/// [`tipped_box`] on a slab that is one part of a compound obstacle, with
+/// a 16 mm cube hanging from the same obstacle at `hook` (a shelf's lip,
+/// a coatrack's peg): near the space the box sweeps as it topples.
+fn tipped_box_beside(hook: Vec3) -> Scene {
+    let mut s = tipped_box();
+    let slab = Geometry::cuboid(Vec3::new(1.0, 1.0, 0.05)).unwrap();
+    let cube = Geometry::cuboid(Vec3::new(0.008, 0.008, 0.008)).unwrap();
+    let at = |v: Vec3| nalgebra::Isometry3::translation(v.x, v.y, v.z);
+    let shelf = Geometry::compound(vec![
+        (at(Vec3::new(0.0, 0.0, -0.05)), slab),
+        (at(hook), cube),
+    ])
+    .unwrap();
+    let mut o = testkit::obstacle("shelf", shelf, Vec3::zeros());
+    o.friction = 1.0;
+    s.obstacles = vec![o];
+    s
+}
+
+/// The pivoting segments of body 0: (start time, pivot).
+fn pivots(tr: &Trajectory) -> Vec<(f64, &nudge::sim::Pivot)> {
+    tr.tracks[0]
+        .segments
+        .iter()
+        .filter_map(|seg| seg.pivot.as_deref().map(|p| (seg.t0, p)))
+        .collect()
+}
+
+/// Another part of the supporting obstacle near the sweep, but out of the
+/// box's reach (above the far end of its landing, farther from the edge
+/// than any of its corners): the box still pivots, its pair with the
+/// obstacle searched against that part only, and lands and rests flat as
+/// on a bare floor. (Such a part used to refuse the pivot: the box then
+/// chattered on its edge.)
+#[test]
+fn a_part_beside_the_sweep_but_out_of_reach_leaves_the_pivot_as_it_is() {
+    let s = tipped_box_beside(Vec3::new(0.0, 0.11, 0.155));
+    let tr = run(&s, &SimOptions::default());
+    let pv = pivots(&tr);
+    assert!(
+        pv.iter().any(|(_, p)| p.beside && p.end == PivotEnd::Lands),
+        "no pivot beside the hook lands: {:?}",
+        tr.signature()
+    );
+    assert!(
+        tr.events.iter().all(|e| e.feature.part_b == 0),
+        "the hook is touched: {:?}",
+        tr.signature()
+    );
+    assert!(
+        tr.events.len() <= 30,
+        "{} events: {:?}",
+        tr.events.len(),
+        tr.signature()
+    );
+    let last = tr.tracks[0].segments.last().unwrap();
+    assert!(last.rest, "the box does not rest: {:?}", tr.signature());
+    let end = tr.state(0, s.duration, Side::Post);
+    assert!((end.q * Vec3::z()).z.abs() > 1.0 - 1e-9, "not flat");
+}
+
+/// A part in the box's way as it topples ends the pivot in an impact on
+/// that part, before the pivot would have landed, and the box never
+/// passes into it.
+#[test]
+fn a_part_in_the_way_of_the_pivot_is_struck() {
+    let hook = Vec3::new(0.0, 0.13, 0.09);
+    let s = tipped_box_beside(hook);
+    let tr = run(&s, &SimOptions::without_tangents());
+    let (t0, pv) = *pivots(&tr).first().unwrap_or_else(|| {
+        panic!("no pivot: {:?}", tr.signature());
+    });
+    assert!(pv.beside, "the hook is near the sweep");
+    let struck = tr
+        .events
+        .iter()
+        .find(|e| e.t > t0 && e.feature.part_b == 1)
+        .unwrap_or_else(|| panic!("the hook is never struck: {:?}", tr.signature()));
+    assert!(
+        struck.t < t0 + pv.duration,
+        "struck at {} after the pivot's own end {}",
+        struck.t,
+        t0 + pv.duration
+    );
+    let cube = Geometry::cuboid(Vec3::new(0.008, 0.008, 0.008)).unwrap();
+    let cube_pose = nalgebra::Isometry3::translation(hook.x, hook.y, hook.z);
+    let body = &s.bodies[0].geometry;
+    for k in 0..=400 {
+        let t = t0 + (struck.t - t0) * f64::from(k) / 400.0;
+        let pose = tr.state(0, t, Side::Post).pose();
+        let gap = nudge::geometry::part_contacts(body, &pose, &cube, &cube_pose, f64::INFINITY)
+            .iter()
+            .map(|c| c.distance)
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            gap > -1e-6,
+            "the box is {:.2e} m into the hook at t = {t}",
+            -gap
+        );
+    }
+}

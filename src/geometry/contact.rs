@@ -58,7 +58,7 @@ fn part_contact(
     // Bounds farther apart than `max_distance`: no contact to report, and
     // no need to ask parry (a bucket's far walls, most of a compound's
     // parts).
-    let (x, y) = (Placed::new(pa, pose_a), Placed::new(pb, pose_b));
+    let (x, y) = (Placed::new(0, pa, pose_a), Placed::new(0, pb, pose_b));
     if x.beyond(&y, max_distance) {
         return None;
     }
@@ -174,17 +174,35 @@ impl<'g> Placement<'g> {
     /// `g` placed at `pose`.
     pub fn new(g: &'g Geometry, pose: &Isometry3<f64>) -> Placement<'g> {
         Placement {
-            parts: g.parts.iter().map(|p| Placed::new(p, pose)).collect(),
+            parts: g
+                .parts
+                .iter()
+                .enumerate()
+                .map(|(k, p)| Placed::new(k, p, pose))
+                .collect(),
+        }
+    }
+
+    /// This placement without part `part` (the others keep their indices):
+    /// a body pivoting on that part is not searched against it.
+    pub fn without(&self, part: usize) -> Placement<'g> {
+        Placement {
+            parts: self
+                .parts
+                .iter()
+                .filter(|p| p.index != part)
+                .cloned()
+                .collect(),
         }
     }
 
     /// As [`part_contacts`], between this placement (`a`) and `b`.
     pub fn part_contacts(&self, b: &Placement, max_distance: f64) -> PartContacts {
         let mut out = PartContacts::new();
-        for (ia, x) in self.parts.iter().enumerate() {
-            for (ib, y) in b.parts.iter().enumerate() {
+        for x in &self.parts {
+            for y in &b.parts {
                 if !x.beyond(y, max_distance)
-                    && let Some(c) = x.contact(y, (ia, ib), max_distance)
+                    && let Some(c) = x.contact(y, max_distance)
                 {
                     out.push(c);
                 }
@@ -199,7 +217,7 @@ impl<'g> Placement<'g> {
         if let ([x], [y]) = (pa.as_slice(), pb.as_slice()) {
             // One part pair: nothing to order.
             return (!x.beyond(y, max_distance))
-                .then(|| x.contact(y, (0, 0), max_distance))
+                .then(|| x.contact(y, max_distance))
                 .flatten();
         }
         // Ask the part pairs in the order of their distance bounds: the
@@ -218,13 +236,13 @@ impl<'g> Placement<'g> {
             if bound > cap + BOUND_SLACK {
                 break;
             }
-            let Some(c) = pa[ia].contact(&pb[ib], (ia, ib), cap) else {
+            let Some(c) = pa[ia].contact(&pb[ib], cap) else {
                 continue;
             };
             let closer = |b: &Contact| {
                 c.distance
                     .total_cmp(&b.distance)
-                    .then((ia, ib).cmp(&(b.part_a, b.part_b)))
+                    .then((c.part_a, c.part_b).cmp(&(b.part_a, b.part_b)))
                     .is_lt()
             };
             if best.as_ref().is_none_or(closer) {
@@ -242,7 +260,10 @@ const BOUND_SLACK: f64 = 1e-9;
 
 /// A part placed in the world for one query, with what its distance bounds
 /// need, computed once per part rather than once per part pair.
+#[derive(Clone)]
 struct Placed<'g> {
+    /// The part's index in its geometry.
+    index: usize,
     part: &'g Part,
     /// The part's own frame, world (its origin is the bounding sphere's
     /// centre).
@@ -256,7 +277,7 @@ struct Placed<'g> {
 }
 
 impl<'g> Placed<'g> {
-    fn new(part: &'g Part, owner: &Isometry3<f64>) -> Placed<'g> {
+    fn new(index: usize, part: &'g Part, owner: &Isometry3<f64>) -> Placed<'g> {
         let w = owner * part.offset;
         let frame = part.local_box().map(|(c, h)| {
             (
@@ -270,6 +291,7 @@ impl<'g> Placed<'g> {
             _ => None,
         };
         Placed {
+            index,
             part,
             world: w,
             frame,
@@ -330,14 +352,9 @@ impl<'g> Placed<'g> {
     }
 
     /// The contact of the two parts closer than `max_distance`, if it is
-    /// finite, labelled with their indices `(ia, ib)` (the bounds' test is
-    /// the caller's).
-    fn contact(
-        &self,
-        other: &Placed,
-        (ia, ib): (usize, usize),
-        max_distance: f64,
-    ) -> Option<Contact> {
+    /// finite, labelled with their indices (the bounds' test is the
+    /// caller's).
+    fn contact(&self, other: &Placed, max_distance: f64) -> Option<Contact> {
         let mut c = placed_part_contact(
             self.part,
             &self.world,
@@ -348,8 +365,8 @@ impl<'g> Placed<'g> {
         if !(c.distance.is_finite() && c.normal.iter().all(|v| v.is_finite())) {
             return None;
         }
-        c.part_a = ia;
-        c.part_b = ib;
+        c.part_a = self.index;
+        c.part_b = other.index;
         Some(c)
     }
 }

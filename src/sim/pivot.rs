@@ -28,13 +28,18 @@
 //!
 //! After lift-off or slip the body flies on freely from the same state.
 //! Energy is conserved within the pivot (the hinge does no work); it is
-//! lost only at the impact that starts it. While pivoting, the body's pair
-//! with the supporting obstacle is not searched: the landing is found on
-//! the contact plane (a half-space, or the face the edge lies on, taken as
-//! unbounded), which is all of that obstacle the pivot sees. The body's
+//! lost only at the impact that starts it. While pivoting, the part the
+//! body turns on is not searched: the landing is found on the contact
+//! plane (a half-space, or the face the edge lies on, taken as unbounded),
+//! and that part must lie below it. The obstacle's other parts (a shelf's
+//! lip, the pole of a coatrack) are searched as usual when they come near
+//! the space the body sweeps, and a contact with one ends the pivot in an
+//! impact; when none comes near, the pair is not searched at all. The body's
 //! Jacobian is lost from the pivot on (`TangentError::Contact`): the start
 //! and end times jump with the controls and the hinge's tangent is not
 //! propagated.
+
+mod turning;
 
 use super::dynamics::BodyDynamics;
 use super::state::BodyState;
@@ -42,6 +47,7 @@ use crate::geometry::{NearPoint, PartKind};
 use crate::math::{Vec3, exp_so3};
 use crate::scene::Scene;
 use nalgebra::UnitQuaternion;
+use turning::{Hinge, Landing, swept_box};
 
 /// Integration step of the hinge angle, s.
 pub const STEP: f64 = 1e-4;
@@ -88,11 +94,25 @@ pub struct Pivot {
     /// At a landing: the body point that lands (its part, and its offset
     /// from the centre of mass in the body frame).
     pub landing: Option<(usize, Vec3)>,
+    /// Whether other parts of the obstacle come near the space the body
+    /// sweeps: the pair is then searched, without the part it turns on.
+    pub beside: bool,
     /// Bounds over the pivot: spin, angular acceleration and the
     /// acceleration of the centre of mass (rad/s, rad/s², m/s²).
     pub w_max: f64,
     pub alpha_max: f64,
     pub accel_max: f64,
+}
+
+/// How an obstacle meets the space a pivoting body sweeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Clear {
+    /// Nothing of it comes near: its pair needs no search while pivoting.
+    Free,
+    /// Parts other than the one turned on come near: searched, without it.
+    Beside,
+    /// The part turned on rises above the contact plane: no pivot.
+    Blocked,
 }
 
 /// Everything [`Pivot::enter`] needs about the impact.
@@ -194,46 +214,50 @@ impl Pivot {
             duration: 0.0,
             end: PivotEnd::Duration,
             landing: None,
+            beside: false,
             w_max: rate.abs(),
             alpha_max: 0.0,
             accel_max: 0.0,
         };
-        if pv.end_at(0.0, rate, d, &ip, p.friction, &g).is_some() {
-            return None;
-        }
-        // Body points off the line, their offsets from `point` at θ = 0.
-        let pts: Vec<(usize, Vec3, f64, Vec3)> = points(p.scene, p.body)
-            .into_iter()
-            .map(|(k, v, radius)| (k, v, radius, r0 + s.q * v))
-            .filter(|(.., r)| (r - axis * axis.dot(r)).norm() > tol)
-            .collect();
-        let lowest = |th: f64| {
-            // One turn for every point (the same product as turning each).
-            let turn = exp_so3(&(axis * th));
-            pts.iter()
-                .map(|(k, v, radius, r)| (n.dot(&(turn * r)) - radius, *k, *v))
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-        };
-        // Every point off the line starts on the outer side of the contact
-        // plane (a body reaching down beside the support, a hat's brim
-        // around a pole, is not on one face), and nothing else of the
-        // obstacle rises into the space the body sweeps.
-        let start_low = lowest(0.0).map_or(f64::INFINITY, |l| l.0);
-        if start_low < -tol {
+        if pv
+            .forces(&r0, &(ip * axis), 0.0, rate, d, p.friction, &g)
+            .is_some()
+        {
             return None;
         }
         let all: Vec<(usize, Vec3, f64, Vec3)> = points(p.scene, p.body)
             .into_iter()
             .map(|(k, v, radius)| (k, v, radius, r0 + s.q * v))
             .collect();
-        // The angles the body turns through (the sweep is their box).
-        let (mut th_lo, mut th_hi) = (0.0_f64, 0.0_f64);
+        // Every point off the line starts on the outer side of the contact
+        // plane (a body reaching down beside the support, a hat's brim
+        // around a pole, is not on one face).
+        let off: Vec<&(usize, Vec3, f64, Vec3)> = all
+            .iter()
+            .filter(|(.., r)| (r - axis * axis.dot(r)).norm() > tol)
+            .collect();
+        let start_low = off
+            .iter()
+            .map(|(.., radius, r)| n.dot(r) - radius)
+            .fold(f64::INFINITY, f64::min);
+        if start_low < -tol {
+            return None;
+        }
+        let floor = start_low.min(0.0);
+        let landing = Landing::new(&axis, &n, &off, floor);
         // Points move at most this far between two samples of the sweep.
         let reach = all
             .iter()
             .map(|(.., radius, r)| r.norm() + radius)
             .fold(0.0, f64::max);
-        let floor = start_low.min(0.0);
+        // The part turned on must lie below the contact plane already at
+        // the start (the sweep's box only grows): refuse before integrating.
+        if pv.clear(p, &pv.padded(&pv.sweep(&all, 0.0, 0.0), reach, p)) == Clear::Blocked {
+            return None;
+        }
+        // The angles the body turns through (the sweep is their box).
+        let (mut th_lo, mut th_hi) = (0.0_f64, 0.0_f64);
+        let hinge = Hinge::new(&axis, &r0, &(ip * axis));
         let steps = (p.horizon / STEP).ceil().min(1e7) as usize;
         let (mut th, mut w) = (0.0, rate);
         for k in 0..steps {
@@ -244,35 +268,27 @@ impl Pivot {
             pv.w_max = pv.w_max.max(w1.abs());
             let alpha = pv.accel(th1);
             pv.alpha_max = pv.alpha_max.max(alpha.abs());
-            let lever = (exp_so3(&(axis * th1)) * r0).norm();
-            pv.accel_max = pv.accel_max.max((alpha.abs() + w1 * w1) * lever);
-            if let Some(l) = lowest(th1)
-                && l.0 < floor
-            {
-                // Lands between the steps: bisect the step on the height.
+            pv.accel_max = pv.accel_max.max((alpha.abs() + w1 * w1) * r0.norm());
+            if let Some(point) = landing.crossed(th1) {
+                // Lands between the steps: bisect the step on the angle.
                 let (mut lo, mut hi) = (0.0, h);
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
                     let (tm, _) = pv.rk4(th, w, mid);
-                    if lowest(tm).is_some_and(|m| m.0 < floor) {
+                    if landing.crossed(tm).is_some() {
                         hi = mid;
                     } else {
                         lo = mid;
                     }
                 }
-                let (tl, _) = pv.rk4(th, w, hi);
                 pv.duration = k as f64 * STEP + hi;
                 pv.end = PivotEnd::Lands;
-                pv.landing = lowest(tl).map(|m| (m.1, m.2));
+                pv.landing = Some(point);
                 let swept = pv.sweep(&all, th_lo, th_hi);
                 return pv.started(s, p, &swept, reach);
             }
-            let rot1 = *(exp_so3(&(axis * th1)) * s.q).to_rotation_matrix().matrix();
-            let r1 = exp_so3(&(axis * th1)) * r0;
-            let ip1 = rot1 * d.inertia * rot1.transpose()
-                + (nalgebra::Matrix3::identity() * r1.norm_squared() - r1 * r1.transpose())
-                    * d.mass;
-            if let Some(end) = pv.end_at(th1, w1, d, &ip1, p.friction, &g) {
+            let (r1, ipa1) = hinge.at(th1);
+            if let Some(end) = pv.forces(&r1, &ipa1, th1, w1, d, p.friction, &g) {
                 pv.duration = t1;
                 pv.end = end;
                 pv.table.push([th1, w1]);
@@ -287,19 +303,20 @@ impl Pivot {
         pv.started(s, p, &swept, reach)
     }
 
-    /// Whether the obstacle leaves free `swept`, a box that holds the
-    /// body all through the pivot (intervals along the line, across it in
-    /// the contact plane, and up from the plane, relative to `point`); the
-    /// touching part only has to stay below the plane. A separating axis
-    /// among the box's three proves a part clear; a part that none
-    /// separates (or an unbounded part other than the touching one)
-    /// refuses the pivot.
-    fn clear(&self, p: &PivotStart<'_>, swept: &[(f64, f64); 3]) -> bool {
+    /// How the obstacle meets `swept`, a box that holds the body all
+    /// through the pivot (intervals along the line, across it in the
+    /// contact plane, and up from the plane, relative to `point`). The part
+    /// turned on must stay below the plane ([`Clear::Blocked`] otherwise);
+    /// a separating axis among the box's three proves another part clear,
+    /// and a part that none separates (or an unbounded one) is
+    /// [`Clear::Beside`].
+    fn clear(&self, p: &PivotStart<'_>, swept: &[(f64, f64); 3]) -> Clear {
         let (a, n) = (self.axis, self.normal);
         let b = a.cross(&n);
         let tol = 1e-6 * p.dynamics.reach;
         let o = &p.scene.obstacles[p.obstacle];
-        o.geometry.parts.iter().enumerate().all(|(k, part)| {
+        let mut verdict = Clear::Free;
+        for (k, part) in o.geometry.parts.iter().enumerate() {
             let pose = o.pose * part.offset;
             let (pts, radius): (Vec<Vec3>, f64) = match &part.kind {
                 PartKind::Ball { radius } => (vec![pose.translation.vector], *radius),
@@ -310,7 +327,11 @@ impl Pivot {
                         .collect(),
                     0.0,
                 ),
-                _ => return k == self.part,
+                _ if k == self.part => continue,
+                _ => {
+                    verdict = Clear::Beside;
+                    continue;
+                }
             };
             let span = |dir: &Vec3| {
                 pts.iter()
@@ -320,9 +341,23 @@ impl Pivot {
                     })
             };
             let apart = |(lo, hi): (f64, f64), (s_lo, s_hi): (f64, f64)| hi < s_lo || lo > s_hi;
-            let (_, hi_n) = span(&n);
-            apart(span(&a), swept[0]) || apart(span(&b), swept[1]) || hi_n <= tol
-        })
+            let clear = apart(span(&a), swept[0]) || apart(span(&b), swept[1]) || span(&n).1 <= tol;
+            if clear {
+                continue;
+            }
+            if k == self.part {
+                return Clear::Blocked;
+            }
+            verdict = Clear::Beside;
+        }
+        verdict
+    }
+
+    /// `swept` widened by how far the body's points move in one step at
+    /// the pivot's top spin (the box is of the sampled angles).
+    fn padded(&self, swept: &[(f64, f64); 3], reach: f64, p: &PivotStart<'_>) -> [(f64, f64); 3] {
+        let pad = reach * self.w_max * STEP + 1e-6 * p.dynamics.reach;
+        swept.map(|(lo, hi)| (lo - pad, hi + pad))
     }
 
     /// The box (intervals along the line, across it in the contact plane,
@@ -338,7 +373,7 @@ impl Pivot {
 
     /// The pivot and its start, if the obstacle leaves its sweep free.
     fn started(
-        self,
+        mut self,
         s: &BodyState,
         p: &PivotStart<'_>,
         swept: &[(f64, f64); 3],
@@ -349,10 +384,10 @@ impl Pivot {
         if self.end == PivotEnd::Lands && self.duration < STEP {
             return None;
         }
-        let pad = reach * self.w_max * STEP + 1e-6 * p.dynamics.reach;
-        let swept = swept.map(|(lo, hi)| (lo - pad, hi + pad));
-        if !self.clear(p, &swept) {
-            return None;
+        match self.clear(p, &self.padded(swept, reach, p)) {
+            Clear::Blocked => return None,
+            Clear::Beside => self.beside = true,
+            Clear::Free => {}
         }
         let start = self.at(0.0);
         debug_assert!((start.x - s.x).norm() <= 1e-9 * (1.0 + s.x.norm()));
@@ -374,26 +409,29 @@ impl Pivot {
         )
     }
 
-    /// Whether the hinge stops holding at angle `th`, rate `w` (inertia
-    /// about `point` there `ip`): a normal force at an end of the line
-    /// below zero, or the total force outside the friction cone.
-    fn end_at(
+    /// Whether the hinge stops holding at angle `th`, rate `w`, with the
+    /// centre of mass at `r` from `point` and `ipa` the inertia about
+    /// `point` applied to the axis (`I_p a`): a normal force at an end of
+    /// the line below zero, or the total force outside the friction cone.
+    #[allow(clippy::too_many_arguments)]
+    fn forces(
         &self,
+        r: &Vec3,
+        ipa: &Vec3,
         th: f64,
         w: f64,
         d: &BodyDynamics,
-        ip: &nalgebra::Matrix3<f64>,
         friction: f64,
         g: &Vec3,
     ) -> Option<PivotEnd> {
         let a = self.axis;
-        let r = exp_so3(&(a * th)) * self.r0;
         let alpha = a * self.accel(th);
         let omega = a * w;
-        let acc = alpha.cross(&r) + omega.cross(&omega.cross(&r));
-        // Contact force and moment about `point` that keep the hinge.
+        let acc = alpha.cross(r) + omega.cross(&omega.cross(r));
+        // Contact force and moment about `point` that keep the hinge
+        // (`I_p α + ω × I_p ω` with `α`, `ω` along the axis).
         let f = (acc - g) * d.mass;
-        let m = ip * alpha + omega.cross(&(ip * omega)) - r.cross(&(g * d.mass));
+        let m = ipa * self.accel(th) + omega.cross(&(ipa * w)) - r.cross(&(g * d.mass));
         let n = self.normal;
         let fn_total = f.dot(&n);
         let n2 = m.dot(&a.cross(&n)) / self.length;
@@ -442,96 +480,5 @@ impl Pivot {
         let rot = *s.q.to_rotation_matrix().matrix();
         let ic = rot * d.inertia * rot.transpose();
         0.5 * (d.mass * s.v.norm_squared() + s.w.dot(&(ic * s.w))) - d.mass * g.dot(&s.x)
-    }
-}
-
-/// [`Pivot::sweep`] about `axis`, with `normal` the contact plane's.
-fn swept_box(
-    axis: &Vec3,
-    normal: &Vec3,
-    pts: &[(usize, Vec3, f64, Vec3)],
-    lo: f64,
-    hi: f64,
-) -> [(f64, f64); 3] {
-    use std::f64::consts::{PI, TAU};
-    let dirs = [*axis, axis.cross(normal), *normal];
-    // Whether some `θ ≡ at (mod 2π)` lies in `[lo, hi]`.
-    let reaches = |at: f64| hi - lo >= TAU || at + TAU * ((lo - at) / TAU).ceil() <= hi;
-    let mut swept = [(f64::INFINITY, f64::NEG_INFINITY); 3];
-    for (.., radius, r) in pts {
-        let along = axis * axis.dot(r);
-        let perp = r - along;
-        let side = axis.cross(&perp);
-        for (iv, d) in swept.iter_mut().zip(&dirs) {
-            let (c0, c1, c2) = (d.dot(&along), d.dot(&perp), d.dot(&side));
-            let at = |th: f64| c0 + c1 * th.cos() + c2 * th.sin();
-            let (mut min, mut max) = (at(lo).min(at(hi)), at(lo).max(at(hi)));
-            let amp = c1.hypot(c2);
-            let phi = c2.atan2(c1);
-            if reaches(phi) {
-                max = c0 + amp;
-            }
-            if reaches(phi + PI) {
-                min = c0 - amp;
-            }
-            *iv = (iv.0.min(min - radius), iv.1.max(max + radius));
-        }
-    }
-    swept
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The closed-form box against the points turned at 20,001 sampled
-    /// angles: it holds every sample and is no larger than they are (to
-    /// the angle between two samples).
-    #[test]
-    fn the_swept_box_is_the_box_of_every_turned_point() {
-        let axis = Vec3::new(0.3, -0.2, 0.9).normalize();
-        let normal = axis.cross(&Vec3::x()).normalize();
-        let pts: Vec<(usize, Vec3, f64, Vec3)> = [
-            (Vec3::new(0.4, 0.1, -0.2), 0.0),
-            (Vec3::new(-0.1, 0.3, 0.5), 0.02),
-            (Vec3::new(0.0, -0.25, 0.05), 0.0),
-        ]
-        .iter()
-        .enumerate()
-        .map(|(k, (r, radius))| (k, *r, *radius, *r))
-        .collect();
-        let dirs = [axis, axis.cross(&normal), normal];
-        for (lo, hi) in [
-            (0.0, 0.0),
-            (-0.3, 0.2),
-            (0.0, 2.5),
-            (-1.0, 4.0),
-            (-7.0, 0.5),
-        ] {
-            let boxed = swept_box(&axis, &normal, &pts, lo, hi);
-            let mut sampled = [(f64::INFINITY, f64::NEG_INFINITY); 3];
-            let n = 20_000;
-            for k in 0..=n {
-                let th = lo + (hi - lo) * k as f64 / n as f64;
-                let turn = exp_so3(&(axis * th));
-                for (.., radius, r) in &pts {
-                    let p = turn * r;
-                    for (iv, d) in sampled.iter_mut().zip(&dirs) {
-                        *iv = (iv.0.min(d.dot(&p) - radius), iv.1.max(d.dot(&p) + radius));
-                    }
-                }
-            }
-            let gap = 0.7 * (hi - lo) / n as f64;
-            for (b, s) in boxed.iter().zip(&sampled) {
-                assert!(
-                    b.0 <= s.0 + 1e-12 && b.1 >= s.1 - 1e-12,
-                    "[{lo}, {hi}]: {b:?} {s:?}"
-                );
-                assert!(
-                    b.0 >= s.0 - gap - 1e-12 && b.1 <= s.1 + gap + 1e-12,
-                    "[{lo}, {hi}]: {b:?} {s:?}"
-                );
-            }
-        }
     }
 }

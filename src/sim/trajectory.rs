@@ -484,13 +484,16 @@ impl Trajectory {
     }
 
     /// Whether `body` leans on obstacle `o` at time `t` (resting on
-    /// anything, or sliding or pivoting on `o`): the pair needs no event
-    /// search.
+    /// anything, sliding on `o`, or pivoting on `o` with its other parts
+    /// clear of the sweep): the pair needs no event search.
     pub fn supported_by(&self, body: usize, t: f64, o: usize) -> bool {
         let seg = &self.tracks[body].segments[self.segment_index(body, t, Side::Post)];
         seg.rest
             || seg.slide.is_some_and(|s| s.obstacle == o)
-            || seg.pivot.as_ref().is_some_and(|p| p.obstacle == o)
+            || seg
+                .pivot
+                .as_ref()
+                .is_some_and(|p| p.obstacle == o && !p.beside)
     }
 
     /// The pivot `body` follows at time `t`, if any.

@@ -239,7 +239,7 @@ fn a_part_pairs_bound_never_exceeds_its_distance() {
         let Some(c) = unculled_part_contact(x, &pa, y, &pb, f64::INFINITY) else {
             continue;
         };
-        let (px, py) = (Placed::new(x, &pa), Placed::new(y, &pb));
+        let (px, py) = (Placed::new(0, x, &pa), Placed::new(0, y, &pb));
         let bound = px.bound(&py);
         assert!(
             bound <= c.distance + 1e-12,

@@ -41,7 +41,17 @@ impl World<'_, '_> {
         let pa = self.pose(Party::Body(pair.a), sa);
         let a = Placement::new(self.geometry(Party::Body(pair.a)), &pa);
         match pair.b {
-            Party::Obstacle(o) => query(&a, &self.obstacles[o]),
+            // A body pivoting beside other parts of the obstacle is searched
+            // against those only (`sim::pivot`).
+            Party::Obstacle(o) => match self.traj.tracks[pair.a]
+                .segments
+                .last()
+                .and_then(|s| s.pivot.as_deref())
+                .filter(|pv| pv.obstacle == o)
+            {
+                Some(pv) => query(&a, &self.obstacles[o].without(pv.part)),
+                None => query(&a, &self.obstacles[o]),
+            },
             Party::Body(_) => {
                 let pb = self.pose(pair.b, sb);
                 query(&a, &Placement::new(self.geometry(pair.b), &pb))
