@@ -133,6 +133,55 @@ pub(crate) struct PivotStart<'a> {
     pub horizon: f64,
 }
 
+/// The line a body's support points make on one obstacle.
+pub(crate) struct SupportLine {
+    /// Its first end, unit direction, the contact normal and its length.
+    point: Vec3,
+    axis: Vec3,
+    normal: Vec3,
+    length: f64,
+}
+
+impl SupportLine {
+    /// The line through `supports`, if there are two or more, with one
+    /// normal, all within `1e-6 · reach` of the line through the two
+    /// farthest apart (at least `1e-3 · reach` apart).
+    pub(crate) fn of(supports: &[NearPoint], reach: f64) -> Option<SupportLine> {
+        let first = supports.first()?;
+        let n = first.normal;
+        if supports.len() < 2 || supports.iter().any(|q| q.normal.dot(&n) < 1.0 - 1e-6) {
+            return None;
+        }
+        let (mut i1, mut i2, mut far) = (0, 0, 0.0);
+        for (i, a) in supports.iter().enumerate() {
+            for (j, b) in supports.iter().enumerate().skip(i + 1) {
+                let l = (a.point - b.point).norm();
+                if l > far {
+                    (i1, i2, far) = (i, j, l);
+                }
+            }
+        }
+        if far < 1e-3 * reach {
+            return None;
+        }
+        let point = supports[i1].point;
+        let axis = (supports[i2].point - point) / far;
+        let off_line = |q: &Vec3| {
+            let r = q - point;
+            (r - axis * axis.dot(&r)).norm()
+        };
+        if supports.iter().any(|q| off_line(&q.point) > 1e-6 * reach) {
+            return None;
+        }
+        Some(SupportLine {
+            point,
+            axis,
+            normal: n,
+            length: far,
+        })
+    }
+}
+
 /// Body points of body `i`: part, offset from the centre of mass in the
 /// body frame, radius (0 for hull vertices).
 fn points(scene: &Scene, i: usize) -> Vec<(usize, Vec3, f64)> {
@@ -156,37 +205,16 @@ impl Pivot {
         let g = p.gravity;
         let d = p.dynamics;
         let s = &p.post;
-        if g.norm() == 0.0 || p.friction <= 0.0 || p.supports.len() < 2 {
+        if g.norm() == 0.0 || p.friction <= 0.0 {
             return None;
         }
-        let n = p.supports[0].normal;
-        if p.supports.iter().any(|q| q.normal.dot(&n) < 1.0 - 1e-6) {
-            return None;
-        }
-        // The two supports farthest apart make the line; every other must
-        // lie on it.
-        let (mut i1, mut i2, mut far) = (0, 0, 0.0);
-        for (i, a) in p.supports.iter().enumerate() {
-            for (j, b) in p.supports.iter().enumerate().skip(i + 1) {
-                let l = (a.point - b.point).norm();
-                if l > far {
-                    (i1, i2, far) = (i, j, l);
-                }
-            }
-        }
+        let SupportLine {
+            point,
+            axis,
+            normal: n,
+            length: far,
+        } = SupportLine::of(p.supports, d.reach)?;
         let tol = 1e-6 * d.reach;
-        if far < 1e-3 * d.reach {
-            return None;
-        }
-        let point = p.supports[i1].point;
-        let axis = (p.supports[i2].point - point) / far;
-        let off_line = |q: &Vec3| {
-            let r = q - point;
-            (r - axis * axis.dot(&r)).norm()
-        };
-        if p.supports.iter().any(|q| off_line(&q.point) > tol) {
-            return None;
-        }
         // Plastic impact of the whole line: keep the momentum about it.
         let rot = *s.q.to_rotation_matrix().matrix();
         let ic = rot * d.inertia * rot.transpose();

@@ -3,7 +3,7 @@
 //! `sim::pivot`).
 
 use super::*;
-use crate::sim::pivot::{Pivot, PivotEnd, PivotStart};
+use crate::sim::pivot::{Pivot, PivotEnd, PivotStart, SupportLine};
 
 impl Sim<'_> {
     /// The pivot that an impact of body `a` on obstacle `o` (its part
@@ -20,13 +20,16 @@ impl Sim<'_> {
         let scene = self.scene;
         let d = &self.traj.dynamics[a];
         let (_, band) = rest::thresholds(scene, d, &self.traj.gravity, self.tol.arm);
+        // Most Zeno-regime impacts are not on a line (a corner, a face):
+        // that is asked first, of this obstacle's supports only.
+        let supports = rest::supports(scene, a, o, post, band);
+        SupportLine::of(&supports, d.reach)?;
         let elsewhere = (0..scene.obstacles.len())
             .filter(|&k| k != o)
             .any(|k| !rest::supports(scene, a, k, post, band).is_empty());
         if elsewhere {
             return None;
         }
-        let supports = rest::supports(scene, a, o, post, band);
         Pivot::enter(&PivotStart {
             scene,
             dynamics: d,
