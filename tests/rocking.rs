@@ -53,16 +53,19 @@ fn tipped_box() -> Scene {
 fn a_box_tipped_onto_an_edge_pivots_over_and_rests_flat_in_a_few_events() {
     let s = tipped_box();
     let tr = run(&s, &SimOptions::default());
-    let pivots: Vec<_> = tr.tracks[0]
-        .segments
-        .iter()
-        .filter_map(|seg| seg.pivot.as_ref())
-        .collect();
+    let pivots = pivots(&tr);
     assert!(!pivots.is_empty(), "no pivot: {:?}", tr.signature());
     assert!(
-        pivots.iter().any(|p| p.end == PivotEnd::Lands),
+        pivots.iter().any(|(_, p)| p.end == PivotEnd::Lands),
         "no pivot lands on a face"
     );
+    let end = rests_flat_in_a_few_events(&tr, s.duration);
+    assert!((end.x.z - 0.05).abs() < 1e-6, "centre at z = {}", end.x.z);
+}
+
+/// Asserts that body 0 took at most 30 events and rests at the end lying
+/// on its broad face (its z axis vertical); its final state.
+fn rests_flat_in_a_few_events(tr: &Trajectory, duration: f64) -> nudge::sim::BodyState {
     assert!(
         tr.events.len() <= 30,
         "{} events: {:?}",
@@ -71,14 +74,13 @@ fn a_box_tipped_onto_an_edge_pivots_over_and_rests_flat_in_a_few_events() {
     );
     let last = tr.tracks[0].segments.last().unwrap();
     assert!(last.rest, "the box does not rest: {:?}", tr.signature());
-    let end = tr.state(0, s.duration, Side::Post);
-    // Lying on its broad face: the body z axis vertical, centre 5 cm up.
+    let end = tr.state(0, duration, Side::Post);
     let up = (end.q * Vec3::z()).z.abs();
     assert!(
         up > 1.0 - 1e-9,
         "tilted at the end: body z · world z = {up}"
     );
-    assert!((end.x.z - 0.05).abs() < 1e-6, "centre at z = {}", end.x.z);
+    end
 }
 
 /// The hinge does no work: within a pivot the mechanical energy stays
@@ -238,16 +240,7 @@ fn a_part_beside_the_sweep_but_out_of_reach_leaves_the_pivot_as_it_is() {
         "the hook is touched: {:?}",
         tr.signature()
     );
-    assert!(
-        tr.events.len() <= 30,
-        "{} events: {:?}",
-        tr.events.len(),
-        tr.signature()
-    );
-    let last = tr.tracks[0].segments.last().unwrap();
-    assert!(last.rest, "the box does not rest: {:?}", tr.signature());
-    let end = tr.state(0, s.duration, Side::Post);
-    assert!((end.q * Vec3::z()).z.abs() > 1.0 - 1e-9, "not flat");
+    rests_flat_in_a_few_events(&tr, s.duration);
 }
 
 /// A part in the box's way as it topples ends the pivot in an impact on
