@@ -247,10 +247,7 @@ impl Pivot {
             alpha_max: 0.0,
             accel_max: 0.0,
         };
-        if pv
-            .forces(&r0, &(ip * axis), 0.0, rate, d, p.friction, &g)
-            .is_some()
-        {
+        if pv.forces(&r0, &(ip * axis), 0.0, rate, p).is_some() {
             return None;
         }
         let all: Vec<(usize, Vec3, f64, Vec3)> = points(p.scene, p.body)
@@ -316,7 +313,7 @@ impl Pivot {
                 return pv.started(s, p, &swept, reach);
             }
             let (r1, ipa1) = hinge.at(th1);
-            if let Some(end) = pv.forces(&r1, &ipa1, th1, w1, d, p.friction, &g) {
+            if let Some(end) = pv.forces(&r1, &ipa1, th1, w1, p) {
                 pv.duration = t1;
                 pv.end = end;
                 pv.table.push([th1, w1]);
@@ -399,7 +396,9 @@ impl Pivot {
         swept_box(&self.axis, &self.normal, pts, lo, hi)
     }
 
-    /// The pivot and its start, if the obstacle leaves its sweep free.
+    /// The pivot and its start, unless it lands within its first step or
+    /// the part turned on rises into its sweep (other parts there mark it
+    /// [`Pivot::beside`]).
     fn started(
         mut self,
         s: &BodyState,
@@ -441,25 +440,24 @@ impl Pivot {
     /// centre of mass at `r` from `point` and `ipa` the inertia about
     /// `point` applied to the axis (`I_p a`): a normal force at an end of
     /// the line below zero, or the total force outside the friction cone.
-    #[allow(clippy::too_many_arguments)]
     fn forces(
         &self,
         r: &Vec3,
         ipa: &Vec3,
         th: f64,
         w: f64,
-        d: &BodyDynamics,
-        friction: f64,
-        g: &Vec3,
+        p: &PivotStart<'_>,
     ) -> Option<PivotEnd> {
+        let (d, friction, g) = (p.dynamics, p.friction, &p.gravity);
         let a = self.axis;
-        let alpha = a * self.accel(th);
+        let accel = self.accel(th);
+        let alpha = a * accel;
         let omega = a * w;
         let acc = alpha.cross(r) + omega.cross(&omega.cross(r));
         // Contact force and moment about `point` that keep the hinge
         // (`I_p α + ω × I_p ω` with `α`, `ω` along the axis).
         let f = (acc - g) * d.mass;
-        let m = ipa * self.accel(th) + omega.cross(&(ipa * w)) - r.cross(&(g * d.mass));
+        let m = ipa * accel + omega.cross(&(ipa * w)) - r.cross(&(g * d.mass));
         let n = self.normal;
         let fn_total = f.dot(&n);
         let n2 = m.dot(&a.cross(&n)) / self.length;
