@@ -38,7 +38,14 @@
 //! Jacobian is lost from the pivot on (`TangentError::Contact`): the start
 //! and end times jump with the controls and the hinge's tangent is not
 //! propagated.
+//!
+//! When friction cannot hold the line still (the hinge slips at once, or
+//! there is no friction) on a half-space, the impact starts a skid
+//! instead ([`Pivot::enter_skid`], `pivot::skid`): the line's ends slide on
+//! the plane under Coulomb friction while the body turns freely; it ends
+//! like a hinge, or when the ends stop slipping (the hinge takes over).
 
+mod skid;
 mod turning;
 
 use super::dynamics::BodyDynamics;
@@ -46,8 +53,8 @@ use super::state::BodyState;
 use crate::geometry::{NearPoint, PartKind};
 use crate::math::{Vec3, exp_so3};
 use crate::scene::Scene;
-use nalgebra::UnitQuaternion;
-use turning::{Hinge, Landing, swept_box};
+pub use skid::Skid;
+use turning::{Hinge, Landing, Turn, swept_box};
 
 /// Integration step of the hinge angle, s.
 pub const STEP: f64 = 1e-4;
@@ -61,6 +68,9 @@ pub enum PivotEnd {
     LiftsOff,
     /// The friction cone is left: free flight (micro-collisions again).
     Slips,
+    /// A skid's slipping ends stop slipping: the hinge takes over if it
+    /// holds, else free flight.
+    Sticks,
     /// The simulation ends first.
     Duration,
 }
@@ -80,14 +90,8 @@ pub struct Pivot {
     pub normal: Vec3,
     /// The other end of the support, along `axis` from `point`, m.
     pub length: f64,
-    /// Orientation and centre of mass relative to `point` at `θ = 0`.
-    q0: UnitQuaternion<f64>,
-    r0: Vec3,
-    /// `θ̈ = c_cos cos θ + c_sin sin θ`, 1/s².
-    c_cos: f64,
-    c_sin: f64,
-    /// `(θ, θ̇)` every [`STEP`] from the start.
-    table: Vec<[f64; 2]>,
+    /// How the body moves: turning about the fixed line, or skidding.
+    motion: Motion,
     /// Duration of the pivot, s, and why it ends.
     pub duration: f64,
     pub end: PivotEnd,
@@ -97,11 +101,22 @@ pub struct Pivot {
     /// Whether other parts of the obstacle come near the space the body
     /// sweeps: the pair is then searched, without the part it turns on.
     pub beside: bool,
-    /// Bounds over the pivot: spin, angular acceleration and the
-    /// acceleration of the centre of mass (rad/s, rad/s², m/s²).
+    /// Bounds over the pivot: speed of the centre of mass (a skid's; a
+    /// hinge's is in `w_max`), spin, angular acceleration and the
+    /// acceleration of the centre of mass (m/s, rad/s, rad/s², m/s²).
+    pub v_max: f64,
     pub w_max: f64,
     pub alpha_max: f64,
     pub accel_max: f64,
+}
+
+/// The two motions of a pivot.
+#[derive(Debug, Clone, PartialEq)]
+enum Motion {
+    /// About the fixed line (friction holds it).
+    Hinge(Turn),
+    /// The line slides on a plane (see `pivot::skid`).
+    Skid(Box<Skid>),
 }
 
 /// How an obstacle meets the space a pivoting body sweeps.
@@ -131,6 +146,9 @@ pub(crate) struct PivotStart<'a> {
     pub friction: f64,
     /// Longest the pivot may last, s.
     pub horizon: f64,
+    /// The rest speed in force for the body, m/s: a skid's ends stick
+    /// below it.
+    pub v_rest: f64,
 }
 
 /// The line a body's support points make on one obstacle.
@@ -227,6 +245,13 @@ impl Pivot {
         let r_perp = r0 - axis * axis.dot(&r0);
         let c_cos = d.mass * g.dot(&axis.cross(&r_perp)) / i_a;
         let c_sin = -d.mass * g.dot(&r_perp) / i_a;
+        let mut turn = Turn {
+            q0: s.q,
+            r0,
+            c_cos,
+            c_sin,
+            table: vec![[0.0, rate]],
+        };
         let mut pv = Pivot {
             obstacle: p.obstacle,
             part: p.part,
@@ -234,20 +259,20 @@ impl Pivot {
             axis,
             normal: n,
             length: far,
-            q0: s.q,
-            r0,
-            c_cos,
-            c_sin,
-            table: vec![[0.0, rate]],
+            motion: Motion::Hinge(turn.clone()),
             duration: 0.0,
             end: PivotEnd::Duration,
             landing: None,
             beside: false,
+            v_max: 0.0,
             w_max: rate.abs(),
             alpha_max: 0.0,
             accel_max: 0.0,
         };
-        if pv.forces(&r0, &(ip * axis), 0.0, rate, p).is_some() {
+        if pv
+            .forces(&r0, &(ip * axis), turn.accel(0.0), rate, p)
+            .is_some()
+        {
             return None;
         }
         let all: Vec<(usize, Vec3, f64, Vec3)> = points(p.scene, p.body)
@@ -287,11 +312,11 @@ impl Pivot {
         let (mut th, mut w) = (0.0, rate);
         for k in 0..steps {
             let h = STEP.min(p.horizon - k as f64 * STEP);
-            let (th1, w1) = pv.rk4(th, w, h);
+            let (th1, w1) = turn.rk4(th, w, h);
             let t1 = k as f64 * STEP + h;
             (th_lo, th_hi) = (th_lo.min(th1), th_hi.max(th1));
             pv.w_max = pv.w_max.max(w1.abs());
-            let alpha = pv.accel(th1);
+            let alpha = turn.accel(th1);
             pv.alpha_max = pv.alpha_max.max(alpha.abs());
             pv.accel_max = pv.accel_max.max((alpha.abs() + w1 * w1) * r0.norm());
             if let Some(point) = landing.crossed(th1) {
@@ -299,7 +324,7 @@ impl Pivot {
                 let (mut lo, mut hi) = (0.0, h);
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
-                    let (tm, _) = pv.rk4(th, w, mid);
+                    let (tm, _) = turn.rk4(th, w, mid);
                     if landing.crossed(tm).is_some() {
                         hi = mid;
                     } else {
@@ -310,21 +335,24 @@ impl Pivot {
                 pv.end = PivotEnd::Lands;
                 pv.landing = Some(point);
                 let swept = pv.sweep(&all, th_lo, th_hi);
+                pv.motion = Motion::Hinge(turn);
                 return pv.started(s, p, &swept, reach);
             }
             let (r1, ipa1) = hinge.at(th1);
-            if let Some(end) = pv.forces(&r1, &ipa1, th1, w1, p) {
+            if let Some(end) = pv.forces(&r1, &ipa1, turn.accel(th1), w1, p) {
                 pv.duration = t1;
                 pv.end = end;
-                pv.table.push([th1, w1]);
+                turn.table.push([th1, w1]);
                 let swept = pv.sweep(&all, th_lo, th_hi);
+                pv.motion = Motion::Hinge(turn);
                 return pv.started(s, p, &swept, reach);
             }
             (th, w) = (th1, w1);
-            pv.table.push([th, w]);
+            turn.table.push([th, w]);
         }
         pv.duration = p.horizon;
         let swept = pv.sweep(&all, th_lo, th_hi);
+        pv.motion = Motion::Hinge(turn);
         pv.started(s, p, &swept, reach)
     }
 
@@ -421,19 +449,18 @@ impl Pivot {
         Some((self, start))
     }
 
-    fn accel(&self, th: f64) -> f64 {
-        self.c_cos * th.cos() + self.c_sin * th.sin()
+    /// The speed of the body's points at most, m/s, the centre of mass
+    /// being at `x`, points within `reach` of it.
+    pub fn speed_bound(&self, x: &Vec3, reach: f64) -> f64 {
+        match self.motion {
+            Motion::Hinge(_) => self.w_max * ((x - self.point).norm() + reach),
+            Motion::Skid(_) => self.v_max + self.w_max * reach,
+        }
     }
 
-    fn rk4(&self, th: f64, w: f64, h: f64) -> (f64, f64) {
-        let k1 = (w, self.accel(th));
-        let k2 = (w + 0.5 * h * k1.1, self.accel(th + 0.5 * h * k1.0));
-        let k3 = (w + 0.5 * h * k2.1, self.accel(th + 0.5 * h * k2.0));
-        let k4 = (w + h * k3.1, self.accel(th + h * k3.0));
-        (
-            th + h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0),
-            w + h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1),
-        )
+    /// Whether the line slides (a skid) rather than staying put.
+    pub fn skids(&self) -> bool {
+        matches!(self.motion, Motion::Skid(_))
     }
 
     /// Whether the hinge stops holding at angle `th`, rate `w`, with the
@@ -444,13 +471,12 @@ impl Pivot {
         &self,
         r: &Vec3,
         ipa: &Vec3,
-        th: f64,
+        accel: f64,
         w: f64,
         p: &PivotStart<'_>,
     ) -> Option<PivotEnd> {
         let (d, friction, g) = (p.dynamics, p.friction, &p.gravity);
         let a = self.axis;
-        let accel = self.accel(th);
         let alpha = a * accel;
         let omega = a * w;
         let acc = alpha.cross(r) + omega.cross(&omega.cross(r));
@@ -472,30 +498,30 @@ impl Pivot {
         None
     }
 
-    /// Angle and rate `tau` seconds into the pivot.
-    fn angle(&self, tau: f64) -> (f64, f64) {
-        let tau = tau.clamp(0.0, self.duration);
-        let k = ((tau / STEP).floor() as usize).min(self.table.len() - 1);
-        let [th, w] = self.table[k];
-        let rest = tau - k as f64 * STEP;
-        if rest <= 0.0 {
-            (th, w)
-        } else {
-            self.rk4(th, w, rest)
-        }
-    }
-
     /// The body's state `tau` seconds into the pivot.
     pub fn at(&self, tau: f64) -> BodyState {
-        let (th, w) = self.angle(tau);
-        let turn = exp_so3(&(self.axis * th));
-        let r = turn * self.r0;
+        let tau = tau.clamp(0.0, self.duration);
+        let turn = match &self.motion {
+            Motion::Hinge(turn) => turn,
+            Motion::Skid(skid) => return skid.at(tau),
+        };
+        let (th, w) = turn.angle(tau);
+        let rot = exp_so3(&(self.axis * th));
+        let r = rot * turn.r0;
         let omega = self.axis * w;
         BodyState {
             x: self.point + r,
-            q: turn * self.q0,
+            q: rot * turn.q0,
             v: omega.cross(&r),
             w: omega,
+        }
+    }
+
+    /// The skid this pivot follows, if its line slides.
+    pub fn skid(&self) -> Option<&Skid> {
+        match &self.motion {
+            Motion::Skid(skid) => Some(skid),
+            Motion::Hinge(_) => None,
         }
     }
 

@@ -58,7 +58,9 @@
 //!    support points on the obstacle lie on one line (an edge), with
 //!    friction, the impact starts a *pivot* instead (`sim::pivot`): the
 //!    body turns about the edge as a hinge until it rolls onto a face,
-//!    lifts off or slips, in one event instead of hundreds of hops.
+//!    lifts off or slips, in one event instead of hundreds of hops; where
+//!    friction cannot hold the edge on a half-space (or there is none) it
+//!    *skids*, the edge sliding on the plane (`sim::pivot::skid`).
 //!
 //! Every path ends: a Zeno series of a supported body falls below `v_r` in
 //! finitely many bounces and rests or slides; chatter is bounded by the hop

@@ -52,11 +52,10 @@ impl World<'_, '_> {
         }
         let d = &self.traj.dynamics[i];
         if let Some(pv) = self.traj.pivot(i, t, Side::Post) {
-            // Turning about a fixed line: every point within `lever + reach`
-            // of it, at most `w_max` (the centre's acceleration is in
-            // `slide_decel`).
-            let lever = (s.x - pv.point).norm();
-            return [(pv.w_max * (lever + d.reach), 0.0); 2];
+            // Turning about a fixed line (every point within `lever +
+            // reach` of it, at most `w_max`) or skidding (the centre at
+            // most `v_max`); the centre's acceleration is in `slide_decel`.
+            return [(pv.speed_bound(&s.x, d.reach), 0.0); 2];
         }
         let lin = self.traj.gravity.norm() + self.slide_decel(i, t);
         let w = s.w.norm();

@@ -1,4 +1,4 @@
-//! Closed forms of a body turning about a fixed line: where its points
+//! A body turning about a fixed line: its angle (the hinge's motion) and, in closed form, where its points
 //! go (`v(θ) = along + perp cos θ + side sin θ`), the box they sweep over
 //! an interval of angles, and the angles at which one first reaches the
 //! contact plane (`sim::pivot`).
@@ -6,6 +6,7 @@
 use crate::math::Vec3;
 #[cfg(test)]
 use crate::math::exp_so3;
+use nalgebra::UnitQuaternion;
 
 /// A vector turned about a fixed unit axis: `v(θ) = along + perp cos θ +
 /// side sin θ`.
@@ -29,6 +30,48 @@ impl Turning {
 
     pub(super) fn at(&self, cos: f64, sin: f64) -> Vec3 {
         self.along + self.perp * cos + self.side * sin
+    }
+}
+
+/// A hinge's motion: `θ̈ = c_cos cos θ + c_sin sin θ` from the start pose.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Turn {
+    /// Orientation and centre of mass relative to `point` at `θ = 0`.
+    pub(super) q0: UnitQuaternion<f64>,
+    pub(super) r0: Vec3,
+    /// 1/s².
+    pub(super) c_cos: f64,
+    pub(super) c_sin: f64,
+    /// `(θ, θ̇)` every [`STEP`](super::STEP) from the start.
+    pub(super) table: Vec<[f64; 2]>,
+}
+
+impl Turn {
+    pub(super) fn accel(&self, th: f64) -> f64 {
+        self.c_cos * th.cos() + self.c_sin * th.sin()
+    }
+
+    pub(super) fn rk4(&self, th: f64, w: f64, h: f64) -> (f64, f64) {
+        let k1 = (w, self.accel(th));
+        let k2 = (w + 0.5 * h * k1.1, self.accel(th + 0.5 * h * k1.0));
+        let k3 = (w + 0.5 * h * k2.1, self.accel(th + 0.5 * h * k2.0));
+        let k4 = (w + h * k3.1, self.accel(th + h * k3.0));
+        (
+            th + h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0),
+            w + h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1),
+        )
+    }
+
+    /// Angle and rate `tau` seconds in (`tau` within the table).
+    pub(super) fn angle(&self, tau: f64) -> (f64, f64) {
+        let k = ((tau / super::STEP).floor() as usize).min(self.table.len() - 1);
+        let [th, w] = self.table[k];
+        let rest = tau - k as f64 * super::STEP;
+        if rest <= 0.0 {
+            (th, w)
+        } else {
+            self.rk4(th, w, rest)
+        }
     }
 }
 

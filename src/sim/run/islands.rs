@@ -72,7 +72,7 @@ impl Sim<'_> {
 
     /// The support points of body `i` on body `j` (normals from `j` into
     /// `i`), empty when they are farther apart than `i`'s band.
-    fn body_supports(
+    pub(super) fn body_supports(
         &self,
         i: usize,
         si: &BodyState,
@@ -94,7 +94,7 @@ impl Sim<'_> {
     }
 
     /// The bodies of `i`'s listed pairs.
-    fn neighbours(&self, i: usize) -> Vec<usize> {
+    pub(super) fn neighbours(&self, i: usize) -> Vec<usize> {
         self.pairs_of[i]
             .iter()
             .filter_map(|&k| {

@@ -19,7 +19,7 @@ impl Sim<'_> {
     ) -> Option<(Pivot, BodyState)> {
         let scene = self.scene;
         let d = &self.traj.dynamics[a];
-        let (_, band) = rest::thresholds(scene, d, &self.traj.gravity, self.tol.arm);
+        let (v_rest, band) = rest::thresholds(scene, d, &self.traj.gravity, self.tol.arm);
         // Most Zeno-regime impacts are not on a line (a corner, a face):
         // that is asked first, of this obstacle's supports only.
         let supports = rest::supports(scene, a, o, post, band);
@@ -27,10 +27,17 @@ impl Sim<'_> {
         let elsewhere = (0..scene.obstacles.len())
             .filter(|&k| k != o)
             .any(|k| !rest::supports(scene, a, k, post, band).is_empty());
-        if elsewhere {
+        // Nor on another body (a box with another lying on it).
+        let touching = || {
+            self.neighbours(a).into_iter().any(|j| {
+                let sj = self.traj.state(j, tc, Side::Pre);
+                !self.body_supports(a, post, j, &sj).is_empty()
+            })
+        };
+        if elsewhere || touching() {
             return None;
         }
-        Pivot::enter(&PivotStart {
+        let start = PivotStart {
             scene,
             dynamics: d,
             gravity: self.traj.gravity,
@@ -41,7 +48,10 @@ impl Sim<'_> {
             supports: &supports,
             friction: rest::pair_friction(scene, a, o),
             horizon: self.traj.duration - tc,
-        })
+            v_rest,
+        };
+        // The hinge when friction holds the line, else a skid.
+        Pivot::enter(&start).or_else(|| Pivot::enter_skid(&start))
     }
 
     /// Start body `i` pivoting at `t0` from `start`; its Jacobian is lost
@@ -119,6 +129,17 @@ impl Sim<'_> {
             return self.impact(te, k, &contact);
         }
         let m = self.traj.m;
+        if pv.end == PivotEnd::Sticks {
+            // The skid's line stopped slipping: the hinge, if friction
+            // holds it.
+            if let Some((hinge, start)) = self
+                .try_pivot(i, pv.obstacle, pv.part, &s, te)
+                .filter(|(next, _)| !next.skids())
+            {
+                self.start_pivot(i, te, start, DMatrix::zeros(12, m), hinge);
+                return Ok(());
+            }
+        }
         self.start_segment(i, te, s, DMatrix::zeros(12, m), false, None);
         self.pairs[k].armed = false;
         self.pairs[k].hold = te;

@@ -1,0 +1,242 @@
+//! Starting a skid at a Zeno-regime impact and integrating it to its end
+//! (`sim::pivot::skid`).
+
+use super::super::{Motion, Pivot, PivotEnd, PivotStart, STEP as HINGE_STEP, SupportLine, points};
+use super::{STEP, Skid};
+use crate::geometry::PartKind;
+use crate::math::Vec3;
+use crate::sim::state::BodyState;
+
+/// A point of the body off the line: its part, body-frame offset from the
+/// centre of mass, and radius.
+type Point = (usize, Vec3, f64);
+
+impl Pivot {
+    /// The skid that an impact in the Zeno regime starts when the body's
+    /// supports make one line on a half-space whose ends slip faster than
+    /// the rest speed (or the contact is frictionless), with the state it
+    /// starts from; `None` when they do not, when the line would lift off
+    /// at once, or when a point off the line already meets the plane.
+    /// (Skids are on half-spaces only: on a face of a hull the line could
+    /// slide off the face's edge.)
+    pub(crate) fn enter_skid(p: &PivotStart<'_>) -> Option<(Pivot, BodyState)> {
+        let (g, d, s) = (p.gravity, p.dynamics, &p.post);
+        if g.norm() == 0.0 || d.drag_k.is_some() {
+            return None;
+        }
+        let part = p.scene.obstacles[p.obstacle].geometry.parts.get(p.part)?;
+        if !matches!(part.kind, PartKind::HalfSpace { .. }) {
+            return None;
+        }
+        let line = SupportLine::of(p.supports, d.reach)?;
+        let n = line.normal;
+        let ends_world = [line.point, line.point + line.axis * line.length];
+        let ends = ends_world.map(|e| s.q.inverse() * (e - s.x));
+        let levels = ends_world.map(|e| n.dot(&e));
+        let mut skid = Skid::new(
+            ends,
+            n,
+            levels,
+            d.mass,
+            d.inertia,
+            d.inertia_inv,
+            g,
+            p.friction,
+            p.v_rest,
+        );
+        // A plastic impact of the whole line: no end moves along `n`.
+        let start = skid.project(s)?;
+        let first = skid.rates(&start)?;
+        let scale = 1e-9 * d.mass * g.norm();
+        if first.normal.iter().any(|&f| f < -scale) {
+            return None;
+        }
+        if first.held.iter().any(|&h| h) {
+            return None;
+        }
+        let tol = 1e-6 * d.reach;
+        let off: Vec<Point> = points(p.scene, p.body)
+            .into_iter()
+            .filter(|(_, v, _)| {
+                let r = start.q * v + start.x - line.point;
+                (r - line.axis * line.axis.dot(&r)).norm() > tol
+            })
+            .collect();
+        let reach = points(p.scene, p.body)
+            .iter()
+            .map(|(_, v, radius)| v.norm() + radius)
+            .fold(0.0, f64::max);
+        let low = |s: &BodyState| lowest(&off, s, &n, levels[0]);
+        let (start_low, _) = low(&start);
+        if start_low < -tol {
+            return None;
+        }
+        let floor = start_low.min(0.0);
+        let mut end = End {
+            duration: 0.0,
+            end: PivotEnd::Duration,
+            landing: None,
+            v_max: start.v.norm(),
+            w_max: start.w.norm(),
+            alpha_max: first.alpha.norm(),
+            accel_max: first.a.norm(),
+        };
+        let pv = &mut end;
+        let b = line.axis.cross(&n);
+        let frame = |x: &Vec3| {
+            let r = x - line.point;
+            [line.axis.dot(&r), b.dot(&r), n.dot(&r)]
+        };
+        let mut swept = frame(&start.x).map(|c| (c - reach, c + reach));
+        skid.table.push(start);
+        // Points can come no nearer the plane than `budget` before the
+        // lowest is measured again.
+        let mut budget = start_low - floor;
+        let steps = (p.horizon / STEP).ceil().min(1e7) as usize;
+        let mut s0 = start;
+        let mut prev_dir = first.dir;
+        for k in 0..steps {
+            let h = STEP.min(p.horizon - k as f64 * STEP);
+            let t1 = k as f64 * STEP + h;
+            let Some(s1) = skid.advance(&s0, h).and_then(|s1| skid.project(&s1)) else {
+                pv.duration = k as f64 * STEP;
+                pv.end = PivotEnd::LiftsOff;
+                break;
+            };
+            let speed = |s: &BodyState| s.v.norm() + s.w.norm() * reach;
+            budget -= 1.5 * speed(&s0).max(speed(&s1)) * h;
+            if budget <= 0.0 {
+                let (lowest1, _) = low(&s1);
+                if lowest1 < floor {
+                    let (tau, landing) = landing_in(&skid, &off, &s0, h, &n, levels[0], floor);
+                    pv.duration = k as f64 * STEP + tau;
+                    pv.end = PivotEnd::Lands;
+                    pv.landing = landing;
+                    break;
+                }
+                budget = lowest1 - floor;
+            }
+            let Some(r1) = skid.rates(&s1) else {
+                pv.duration = t1;
+                pv.end = PivotEnd::LiftsOff;
+                skid.table.push(s1);
+                break;
+            };
+            pv.v_max = pv.v_max.max(s1.v.norm());
+            pv.w_max = pv.w_max.max(s1.w.norm());
+            pv.alpha_max = pv.alpha_max.max(r1.alpha.norm());
+            pv.accel_max = pv.accel_max.max(r1.a.norm());
+            for (c, (lo, hi)) in frame(&s1.x).iter().zip(swept.iter_mut()) {
+                (*lo, *hi) = (lo.min(c - reach), hi.max(c + reach));
+            }
+            skid.table.push(s1);
+            // An end stops slipping when, slower than the rest speed,
+            // friction holds it, or when its slip turns back (it passed
+            // through zero).
+            let stuck = |r: &super::Rates| {
+                (0..2).any(|i| {
+                    r.held[i]
+                        || (p.friction > 0.0
+                            && r.slip[i] >= p.v_rest
+                            && r.dir[i].dot(&prev_dir[i]) < 0.0)
+                })
+            };
+            if r1.normal.iter().any(|&f| f < -scale) {
+                pv.duration = t1;
+                pv.end = PivotEnd::LiftsOff;
+                break;
+            }
+            if stuck(&r1) {
+                // When within the step, by bisection (the friction's
+                // direction jumps there: RK4 is exact only before it).
+                let (mut lo, mut hi) = (0.0, h);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    match skid.advance(&s0, mid).and_then(|s| skid.rates(&s)) {
+                        Some(r) if !stuck(&r) => lo = mid,
+                        _ => hi = mid,
+                    }
+                }
+                skid.table.pop();
+                pv.duration = k as f64 * STEP + hi;
+                pv.end = PivotEnd::Sticks;
+                break;
+            }
+            prev_dir = r1.dir;
+            s0 = s1;
+            if k + 1 == steps {
+                pv.duration = p.horizon;
+            }
+        }
+        // The sampled centres' box: points move at most `speed · STEP`
+        // between samples.
+        let pad = (end.v_max + end.w_max * reach) * STEP;
+        let swept = swept.map(|(lo, hi)| (lo - pad, hi + pad));
+        // A skid that ends within a hinge's step (two supports landing at
+        // once, a lift-off or a stick at once) would make no progress: it
+        // stays a micro-collision.
+        if end.end != PivotEnd::Duration && end.duration < HINGE_STEP {
+            return None;
+        }
+        let pv = Pivot {
+            obstacle: p.obstacle,
+            part: p.part,
+            point: line.point,
+            axis: line.axis,
+            normal: n,
+            length: line.length,
+            motion: Motion::Skid(Box::new(skid)),
+            duration: end.duration,
+            end: end.end,
+            landing: end.landing,
+            beside: false,
+            v_max: end.v_max,
+            w_max: end.w_max,
+            alpha_max: end.alpha_max,
+            accel_max: end.accel_max,
+        };
+        pv.started(s, p, &swept, 0.0)
+    }
+}
+
+/// How a skid ends, and its bounds (see [`Pivot`]).
+struct End {
+    duration: f64,
+    end: PivotEnd,
+    landing: Option<(usize, Vec3)>,
+    v_max: f64,
+    w_max: f64,
+    alpha_max: f64,
+    accel_max: f64,
+}
+
+/// The lowest height over the plane `n · p = level` of the points `off`
+/// at state `s`, and which point it is.
+fn lowest(off: &[Point], s: &BodyState, n: &Vec3, level: f64) -> (f64, Option<(usize, Vec3)>) {
+    off.iter()
+        .map(|(k, v, radius)| (n.dot(&s.point(v)) - radius - level, Some((*k, *v))))
+        .fold((f64::INFINITY, None), |a, b| if b.0 < a.0 { b } else { a })
+}
+
+/// When within a step of `h` from `s0` a point first goes below `floor`,
+/// by bisection on the step (60 halvings), and the point.
+fn landing_in(
+    skid: &Skid,
+    off: &[Point],
+    s0: &BodyState,
+    h: f64,
+    n: &Vec3,
+    level: f64,
+    floor: f64,
+) -> (f64, Option<(usize, Vec3)>) {
+    let (mut lo, mut hi) = (0.0, h);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        match skid.advance(s0, mid) {
+            Some(s) if lowest(off, &s, n, level).0 >= floor => lo = mid,
+            _ => hi = mid,
+        }
+    }
+    let at = skid.advance(s0, hi).unwrap_or(*s0);
+    (hi, lowest(off, &at, n, level).1)
+}
