@@ -39,11 +39,12 @@
 //! and end times jump with the controls and the hinge's tangent is not
 //! propagated.
 //!
-//! When friction cannot hold the line still (the hinge slips at once, or
-//! there is no friction) on a half-space, the impact starts a skid
+//! When friction cannot hold the line still (the hinge slips at once) on
+//! a half-space, the impact starts a skid
 //! instead ([`Pivot::enter_skid`], `pivot::skid`): the line's ends slide on
 //! the plane under Coulomb friction while the body turns freely; it ends
 //! like a hinge, or when the ends stop slipping (the hinge takes over).
+//! A body on a single slipping corner skids on that corner.
 
 mod skid;
 mod turning;
@@ -197,6 +198,25 @@ impl SupportLine {
             normal: n,
             length: far,
         })
+    }
+}
+
+impl SupportLine {
+    /// A single support corner as a line of no length (its axis any unit
+    /// vector in the contact plane).
+    pub(crate) fn corner(q: &NearPoint) -> SupportLine {
+        let n = q.normal;
+        let other = if n.x.abs() < 0.9 {
+            Vec3::x()
+        } else {
+            Vec3::y()
+        };
+        SupportLine {
+            point: q.point,
+            axis: n.cross(&other).normalize(),
+            normal: n,
+            length: 0.0,
+        }
     }
 }
 

@@ -1,6 +1,8 @@
-//! Skidding on an edge: a body whose line of support slides on a plane
-//! while it turns (`sim::pivot`), the hinge's companion when friction
-//! cannot hold the line still.
+//! Skidding on an edge or a corner: a body whose line of support (or
+//! single support corner) slides on a plane while it turns
+//! (`sim::pivot`), the hinge's companion when friction cannot hold the
+//! line still. A corner is one end instead of two (`count`): one normal
+//! force, a 1×1 system, no turn in the projection.
 //!
 //! The ends of the line (two body points, `b₁`, `b₂` from the centre of
 //! mass) stay on the plane; everything else is free: the body moves with
@@ -55,8 +57,11 @@ pub(super) struct Rates {
 /// A body sliding on a line of support (see the module notes).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Skid {
-    /// The ends of the line, body frame, from the centre of mass.
+    /// The ends of the line, body frame, from the centre of mass: two
+    /// points, or one corner twice.
     ends: [Vec3; 2],
+    /// How many ends there are: 2 for a line, 1 for a corner.
+    count: usize,
     /// Unit plane normal, and each end's offset `n · p` (the ends keep
     /// the heights they start at, within the support band of the plane).
     normal: Vec3,
@@ -113,7 +118,8 @@ impl Y {
 
 impl Skid {
     /// A skid along the plane of normal `normal` whose line ends at the
-    /// body points `ends` (body frame), at offsets `levels` along it.
+    /// body points `ends` (body frame), at offsets `levels` along it; a
+    /// corner when the two ends are the same point.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn new(
         ends: [Vec3; 2],
@@ -128,6 +134,7 @@ impl Skid {
     ) -> Skid {
         Skid {
             ends,
+            count: if ends[0] == ends[1] { 1 } else { 2 },
             normal,
             levels,
             mass,
@@ -238,15 +245,7 @@ impl Skid {
                 + n.dot(&alpha0.cross(&r[j]))
                 + n.dot(&s.w.cross(&s.w.cross(&r[j]))));
         }
-        let det = k[0][0] * k[1][1] - k[0][1] * k[1][0];
-        let scale = (k[0][0] * k[1][1]).abs() + (k[0][1] * k[1][0]).abs();
-        if det.abs().is_nan() || det.abs() <= 1e-9 * scale {
-            return None;
-        }
-        let normal = [
-            (rhs[0] * k[1][1] - k[0][1] * rhs[1]) / det,
-            (k[0][0] * rhs[1] - rhs[0] * k[1][0]) / det,
-        ];
+        let normal = self.linear(&k, &rhs, 1e-9)?;
         let a = self.gravity + (d[0] * normal[0] + d[1] * normal[1]) / self.mass;
         let alpha = alpha0 + turn[0] * normal[0] + turn[1] * normal[1];
         Some((a, alpha, normal))
@@ -302,20 +301,22 @@ impl Skid {
         let mut s = *s;
         let (_, _, r) = self.frame(&s);
         let height = |i: usize, r: &Vec3, x: &Vec3| n.dot(&(x + r)) - self.levels[i];
-        let line = r[1] - r[0];
-        let across = n.cross(&line);
-        let len2 = across.norm_squared();
-        if len2.is_nan() || len2 <= 0.0 {
-            return None;
-        }
-        // Turning by δ about `across / |across|` through the centre moves
-        // end i by δ (across/|across|) × r_i along n.
-        let k = across / len2.sqrt();
-        let lift = [0, 1].map(|i| n.dot(&k.cross(&r[i])));
-        let gap = height(1, &r[1], &s.x) - height(0, &r[0], &s.x);
-        if (lift[1] - lift[0]).abs() > 0.0 {
-            let delta = -gap / (lift[1] - lift[0]);
-            s.q = UnitQuaternion::from_scaled_axis(k * delta) * s.q;
+        if self.count == 2 {
+            let line = r[1] - r[0];
+            let across = n.cross(&line);
+            let len2 = across.norm_squared();
+            if len2.is_nan() || len2 <= 0.0 {
+                return None;
+            }
+            // Turning by δ about `across / |across|` through the centre
+            // moves end i by δ (across/|across|) × r_i along n.
+            let k = across / len2.sqrt();
+            let lift = [0, 1].map(|i| n.dot(&k.cross(&r[i])));
+            let gap = height(1, &r[1], &s.x) - height(0, &r[0], &s.x);
+            if (lift[1] - lift[0]).abs() > 0.0 {
+                let delta = -gap / (lift[1] - lift[0]);
+                s.q = UnitQuaternion::from_scaled_axis(k * delta) * s.q;
+            }
         }
         let (_, i_inv, r) = self.frame(&s);
         let mean = 0.5 * (height(0, &r[0], &s.x) + height(1, &r[1], &s.x));
@@ -330,17 +331,29 @@ impl Skid {
             }
             rhs[j] = -n.dot(&(s.v + s.w.cross(&r[j])));
         }
-        let det = k[0][0] * k[1][1] - k[0][1] * k[1][0];
-        if det.is_nan() || det.abs() <= 1e-12 * (k[0][0] * k[1][1]).abs() {
-            return None;
-        }
-        let l = [
-            (rhs[0] * k[1][1] - k[0][1] * rhs[1]) / det,
-            (k[0][0] * rhs[1] - rhs[0] * k[1][0]) / det,
-        ];
+        let l = self.linear(&k, &rhs, 1e-12)?;
         s.v += n * ((l[0] + l[1]) / self.mass);
         s.w += push[0] * l[0] + push[1] * l[1];
         Some(s)
+    }
+
+    /// The solution of `k x = rhs` over the skid's ends (one or two; the
+    /// second of one end is zero), or `None` when the system is singular
+    /// to `tol` relative.
+    fn linear(&self, k: &[[f64; 2]; 2], rhs: &[f64; 2], tol: f64) -> Option<[f64; 2]> {
+        if self.count == 1 {
+            let x = rhs[0] / k[0][0];
+            return x.is_finite().then_some([x, 0.0]);
+        }
+        let det = k[0][0] * k[1][1] - k[0][1] * k[1][0];
+        let scale = (k[0][0] * k[1][1]).abs() + (k[0][1] * k[1][0]).abs();
+        if det.is_nan() || det.abs() <= tol * scale {
+            return None;
+        }
+        Some([
+            (rhs[0] * k[1][1] - k[0][1] * rhs[1]) / det,
+            (k[0][0] * rhs[1] - rhs[0] * k[1][0]) / det,
+        ])
     }
 
     /// The state `tau` seconds in (`tau` within the skid's table).

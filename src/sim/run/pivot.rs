@@ -8,7 +8,7 @@ use crate::sim::pivot::{Pivot, PivotEnd, PivotStart, SupportLine};
 impl Sim<'_> {
     /// The pivot that an impact of body `a` on obstacle `o` (its part
     /// `part`) in the Zeno regime starts, if its supports make one line on
-    /// that obstacle and touch no other.
+    /// that obstacle (or are one corner, for a skid) and touch no other.
     pub(super) fn try_pivot(
         &self,
         a: usize,
@@ -23,7 +23,10 @@ impl Sim<'_> {
         // Most Zeno-regime impacts are not on a line (a corner, a face):
         // that is asked first, of this obstacle's supports only.
         let supports = rest::supports(scene, a, o, post, band);
-        SupportLine::of(&supports, d.reach)?;
+        let line = SupportLine::of(&supports, d.reach).is_some();
+        if !line && supports.len() != 1 {
+            return None;
+        }
         let elsewhere = (0..scene.obstacles.len())
             .filter(|&k| k != o)
             .any(|k| !rest::supports(scene, a, k, post, band).is_empty());
@@ -50,8 +53,22 @@ impl Sim<'_> {
             horizon: self.traj.duration - tc,
             v_rest,
         };
-        // The hinge when friction holds the line, else a skid.
-        Pivot::enter(&start).or_else(|| Pivot::enter_skid(&start))
+        // The hinge when friction holds the line, else a skid (on a single
+        // corner, only a skid). Without friction a body stays in
+        // micro-collisions: a skid loses energy only where it lands, and a
+        // spinning polyhedron (the frictionless eggs) would skid from
+        // corner to corner without end, where micro-collisions bring a
+        // face down and it slides (`sim::rest`, rule 2).
+        let skid = || {
+            (start.friction > 0.0)
+                .then(|| Pivot::enter_skid(&start))
+                .flatten()
+        };
+        if line {
+            Pivot::enter(&start).or_else(skid)
+        } else {
+            skid()
+        }
     }
 
     /// Start body `i` pivoting at `t0` from `start`; its Jacobian is lost

@@ -28,9 +28,23 @@ impl Pivot {
         if !matches!(part.kind, PartKind::HalfSpace { .. }) {
             return None;
         }
-        let line = SupportLine::of(p.supports, d.reach)?;
+        let line = match p.supports {
+            [corner] => SupportLine::corner(corner),
+            _ => SupportLine::of(p.supports, d.reach)?,
+        };
         let n = line.normal;
         let ends_world = [line.point, line.point + line.axis * line.length];
+        let tol = 1e-6 * d.reach;
+        // The ends must be corners of the body (a ball's lowest point is
+        // not a fixed body point).
+        let all = points(p.scene, p.body);
+        let corner_at = |e: &Vec3| {
+            all.iter()
+                .any(|(_, v, radius)| *radius == 0.0 && (s.point(v) - e).norm() <= tol)
+        };
+        if !ends_world.iter().all(corner_at) {
+            return None;
+        }
         let ends = ends_world.map(|e| s.q.inverse() * (e - s.x));
         let levels = ends_world.map(|e| n.dot(&e));
         let mut skid = Skid::new(
@@ -54,15 +68,20 @@ impl Pivot {
         if first.held.iter().any(|&h| h) {
             return None;
         }
-        let tol = 1e-6 * d.reach;
-        let off: Vec<Point> = points(p.scene, p.body)
-            .into_iter()
+        let off: Vec<Point> = all
+            .iter()
+            .copied()
             .filter(|(_, v, _)| {
                 let r = start.q * v + start.x - line.point;
-                (r - line.axis * line.axis.dot(&r)).norm() > tol
+                let across = if line.length > 0.0 {
+                    r - line.axis * line.axis.dot(&r)
+                } else {
+                    r
+                };
+                across.norm() > tol
             })
             .collect();
-        let reach = points(p.scene, p.body)
+        let reach = all
             .iter()
             .map(|(_, v, radius)| v.norm() + radius)
             .fold(0.0, f64::max);
