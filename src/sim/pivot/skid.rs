@@ -314,8 +314,13 @@ impl Skid {
             let lift = [0, 1].map(|i| n.dot(&k.cross(&r[i])));
             let gap = height(1, &r[1], &s.x) - height(0, &r[0], &s.x);
             if (lift[1] - lift[0]).abs() > 0.0 {
+                // δ is of the integration's round-off: the first-order
+                // turn, normalised, is exact to δ².
                 let delta = -gap / (lift[1] - lift[0]);
-                s.q = UnitQuaternion::from_scaled_axis(k * delta) * s.q;
+                let half = k * (0.5 * delta);
+                s.q = UnitQuaternion::new_normalize(
+                    Quaternion::new(1.0, half.x, half.y, half.z) * s.q.into_inner(),
+                );
             }
         }
         let (_, i_inv, r) = self.frame(&s);

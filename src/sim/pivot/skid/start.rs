@@ -237,8 +237,10 @@ fn lowest(off: &[Point], s: &BodyState, n: &Vec3, level: f64) -> (f64, Option<(u
         .fold((f64::INFINITY, None), |a, b| if b.0 < a.0 { b } else { a })
 }
 
-/// When within a step of `h` from `s0` a point first goes below `floor`,
-/// by bisection on the step (60 halvings), and the point.
+/// When within a step of `h` from `s0` a point first goes below `floor`
+/// (it is above at 0 and below at `h`), and the point: regula falsi with
+/// the Illinois weighting on the lowest height, kept bracketed, until the
+/// point is within 1e-13 m of `floor` below it or the bracket is 1e-15 s.
 fn landing_in(
     skid: &Skid,
     off: &[Point],
@@ -248,14 +250,43 @@ fn landing_in(
     level: f64,
     floor: f64,
 ) -> (f64, Option<(usize, Vec3)>) {
-    let (mut lo, mut hi) = (0.0, h);
+    let height = |tau: f64| {
+        skid.advance(s0, tau)
+            .map(|s| lowest(off, &s, n, level))
+            .filter(|(z, _)| z.is_finite())
+    };
+    let (mut lo, mut f_lo) = (0.0, lowest(off, s0, n, level).0 - floor);
+    let (mut hi, mut last) = (h, height(h));
+    let mut f_hi = last.map_or(-1.0, |(z, _)| z - floor);
+    let mut side = 0;
     for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        match skid.advance(s0, mid) {
-            Some(s) if lowest(off, &s, n, level).0 >= floor => lo = mid,
-            _ => hi = mid,
+        if hi - lo <= 1e-15 {
+            break;
+        }
+        let mut tau = hi - f_hi * (hi - lo) / (f_hi - f_lo);
+        if !(tau > lo && tau < hi) {
+            tau = 0.5 * (lo + hi);
+        }
+        match height(tau) {
+            Some((z, _)) if z >= floor => {
+                (lo, f_lo) = (tau, z - floor);
+                if side == -1 {
+                    f_hi *= 0.5;
+                }
+                side = -1;
+            }
+            found => {
+                let f = found.map_or(-1.0, |(z, _)| z - floor);
+                (hi, f_hi, last) = (tau, f, found);
+                if f > -1e-13 {
+                    break;
+                }
+                if side == 1 {
+                    f_lo *= 0.5;
+                }
+                side = 1;
+            }
         }
     }
-    let at = skid.advance(s0, hi).unwrap_or(*s0);
-    (hi, lowest(off, &at, n, level).1)
+    (hi, last.and_then(|(_, p)| p))
 }
