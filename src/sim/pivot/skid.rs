@@ -117,36 +117,6 @@ impl Y {
 }
 
 impl Skid {
-    /// A skid along the plane of normal `normal` whose line ends at the
-    /// body points `ends` (body frame), at offsets `levels` along it; a
-    /// corner when the two ends are the same point.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn new(
-        ends: [Vec3; 2],
-        normal: Vec3,
-        levels: [f64; 2],
-        mass: f64,
-        inertia: Mat3,
-        inertia_inv: Mat3,
-        gravity: Vec3,
-        friction: f64,
-        onset: f64,
-    ) -> Skid {
-        Skid {
-            ends,
-            count: if ends[0] == ends[1] { 1 } else { 2 },
-            normal,
-            levels,
-            mass,
-            inertia,
-            inertia_inv,
-            gravity,
-            friction,
-            onset,
-            table: Vec::new(),
-        }
-    }
-
     /// World inertia inverse and the ends from the centre of mass.
     fn frame(&self, s: &BodyState) -> (Mat3, Mat3, [Vec3; 2]) {
         let rot = *s.q.to_rotation_matrix().matrix();

@@ -47,17 +47,19 @@ impl Pivot {
         }
         let ends = ends_world.map(|e| s.q.inverse() * (e - s.x));
         let levels = ends_world.map(|e| n.dot(&e));
-        let mut skid = Skid::new(
+        let mut skid = Skid {
             ends,
-            n,
+            count: if line.length > 0.0 { 2 } else { 1 },
+            normal: n,
             levels,
-            d.mass,
-            d.inertia,
-            d.inertia_inv,
-            g,
-            p.friction,
-            p.v_rest,
-        );
+            mass: d.mass,
+            inertia: d.inertia,
+            inertia_inv: d.inertia_inv,
+            gravity: g,
+            friction: p.friction,
+            onset: p.v_rest,
+            table: Vec::new(),
+        };
         // A plastic impact of the whole line: no end moves along `n`.
         let start = skid.project(s)?;
         let first = skid.rates(&start)?;
