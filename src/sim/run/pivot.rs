@@ -20,11 +20,13 @@ impl Sim<'_> {
         let scene = self.scene;
         let d = &self.traj.dynamics[a];
         let (v_rest, band) = rest::thresholds(scene, d, &self.traj.gravity, self.tol.arm);
-        // Most Zeno-regime impacts are not on a line (a corner, a face):
-        // that is asked first, of this obstacle's supports only.
+        let friction = rest::pair_friction(scene, a, o);
+        // Most Zeno-regime impacts are neither on a line nor on a corner
+        // that can skid (on a face, or without friction): that is asked
+        // first, of this obstacle's supports only.
         let supports = rest::supports(scene, a, o, post, band);
         let line = SupportLine::of(&supports, d.reach).is_some();
-        if !line && supports.len() != 1 {
+        if !line && (supports.len() != 1 || friction <= 0.0) {
             return None;
         }
         let elsewhere = (0..scene.obstacles.len())
@@ -49,7 +51,7 @@ impl Sim<'_> {
             part,
             post: *post,
             supports: &supports,
-            friction: rest::pair_friction(scene, a, o),
+            friction,
             horizon: self.traj.duration - tc,
             v_rest,
         };
