@@ -13,12 +13,13 @@ type Point = (usize, Vec3, f64);
 
 impl Pivot {
     /// The skid that an impact in the Zeno regime starts when the body's
-    /// supports make one line on a half-space whose ends slip faster than
-    /// the rest speed (or the contact is frictionless), with the state it
-    /// starts from; `None` when they do not, when the line would lift off
-    /// at once, or when a point off the line already meets the plane.
-    /// (Skids are on half-spaces only: on a face of a hull the line could
-    /// slide off the face's edge.)
+    /// supports on a half-space make one line or are one corner (corners
+    /// of its hulls), with the state it starts from; `None` when friction
+    /// holds an end (see `Skid::rates`; the hinge's case), when the
+    /// support would lift off at once, when a point off it already meets
+    /// the plane, or when the skid would end within a hinge's step. (Skids
+    /// are on half-spaces only: on a face of a hull the line could slide
+    /// off the face's edge.)
     pub(crate) fn enter_skid(p: &PivotStart<'_>) -> Option<(Pivot, BodyState)> {
         let (g, d, s) = (p.gravity, p.dynamics, &p.post);
         if g.norm() == 0.0 || d.drag_k.is_some() {
@@ -93,7 +94,7 @@ impl Pivot {
             return None;
         }
         let floor = start_low.min(0.0);
-        let mut end = End {
+        let mut course = Course {
             duration: 0.0,
             end: PivotEnd::Duration,
             landing: None,
@@ -102,7 +103,6 @@ impl Pivot {
             alpha_max: first.alpha.norm(),
             accel_max: first.a.norm(),
         };
-        let pv = &mut end;
         let b = line.axis.cross(&n);
         let frame = |x: &Vec3| {
             let r = x - line.point;
@@ -120,8 +120,8 @@ impl Pivot {
             let h = STEP.min(p.horizon - k as f64 * STEP);
             let t1 = k as f64 * STEP + h;
             let Some(s1) = skid.advance(&s0, h).and_then(|s1| skid.project(&s1)) else {
-                pv.duration = k as f64 * STEP;
-                pv.end = PivotEnd::LiftsOff;
+                course.duration = k as f64 * STEP;
+                course.end = PivotEnd::LiftsOff;
                 break;
             };
             let speed = |s: &BodyState| s.v.norm() + s.w.norm() * reach;
@@ -130,23 +130,23 @@ impl Pivot {
                 let (lowest1, _) = low(&s1);
                 if lowest1 < floor {
                     let (tau, landing) = landing_in(&skid, &off, &s0, h, &n, levels[0], floor);
-                    pv.duration = k as f64 * STEP + tau;
-                    pv.end = PivotEnd::Lands;
-                    pv.landing = landing;
+                    course.duration = k as f64 * STEP + tau;
+                    course.end = PivotEnd::Lands;
+                    course.landing = landing;
                     break;
                 }
                 budget = lowest1 - floor;
             }
             let Some(r1) = skid.rates(&s1) else {
-                pv.duration = t1;
-                pv.end = PivotEnd::LiftsOff;
+                course.duration = t1;
+                course.end = PivotEnd::LiftsOff;
                 skid.table.push(s1);
                 break;
             };
-            pv.v_max = pv.v_max.max(s1.v.norm());
-            pv.w_max = pv.w_max.max(s1.w.norm());
-            pv.alpha_max = pv.alpha_max.max(r1.alpha.norm());
-            pv.accel_max = pv.accel_max.max(r1.a.norm());
+            course.v_max = course.v_max.max(s1.v.norm());
+            course.w_max = course.w_max.max(s1.w.norm());
+            course.alpha_max = course.alpha_max.max(r1.alpha.norm());
+            course.accel_max = course.accel_max.max(r1.a.norm());
             for (c, (lo, hi)) in frame(&s1.x).iter().zip(swept.iter_mut()) {
                 (*lo, *hi) = (lo.min(c - reach), hi.max(c + reach));
             }
@@ -163,8 +163,8 @@ impl Pivot {
                 })
             };
             if r1.normal.iter().any(|&f| f < -scale) {
-                pv.duration = t1;
-                pv.end = PivotEnd::LiftsOff;
+                course.duration = t1;
+                course.end = PivotEnd::LiftsOff;
                 break;
             }
             if stuck(&r1) {
@@ -179,24 +179,24 @@ impl Pivot {
                     }
                 }
                 skid.table.pop();
-                pv.duration = k as f64 * STEP + hi;
-                pv.end = PivotEnd::Sticks;
+                course.duration = k as f64 * STEP + hi;
+                course.end = PivotEnd::Sticks;
                 break;
             }
             prev_dir = r1.dir;
             s0 = s1;
             if k + 1 == steps {
-                pv.duration = p.horizon;
+                course.duration = p.horizon;
             }
         }
         // The sampled centres' box: points move at most `speed · STEP`
         // between samples.
-        let pad = (end.v_max + end.w_max * reach) * STEP;
+        let pad = (course.v_max + course.w_max * reach) * STEP;
         let swept = swept.map(|(lo, hi)| (lo - pad, hi + pad));
         // A skid that ends within a hinge's step (two supports landing at
         // once, a lift-off or a stick at once) would make no progress: it
         // stays a micro-collision.
-        if end.end != PivotEnd::Duration && end.duration < HINGE_STEP {
+        if course.end != PivotEnd::Duration && course.duration < HINGE_STEP {
             return None;
         }
         let pv = Pivot {
@@ -207,21 +207,21 @@ impl Pivot {
             normal: n,
             length: line.length,
             motion: Motion::Skid(Box::new(skid)),
-            duration: end.duration,
-            end: end.end,
-            landing: end.landing,
+            duration: course.duration,
+            end: course.end,
+            landing: course.landing,
             beside: false,
-            v_max: end.v_max,
-            w_max: end.w_max,
-            alpha_max: end.alpha_max,
-            accel_max: end.accel_max,
+            v_max: course.v_max,
+            w_max: course.w_max,
+            alpha_max: course.alpha_max,
+            accel_max: course.accel_max,
         };
         pv.started(s, p, &swept, 0.0)
     }
 }
 
-/// How a skid ends, and its bounds (see [`Pivot`]).
-struct End {
+/// How long a skid lasts, how it ends, and its bounds (see [`Pivot`]).
+struct Course {
     duration: f64,
     end: PivotEnd,
     landing: Option<(usize, Vec3)>,
