@@ -18,10 +18,11 @@
 //!
 //! a 2×2 linear system in `(N₁, N₂)` at every evaluation. The state
 //! `(x, q, v, ω)` is integrated by fixed-step RK4 (step [`STEP`]), and
-//! after each step put back on the constraint (both ends on the plane,
-//! their normal speeds zero) by the smallest change in the metric of the
-//! body's mass: a frictionless impulse at the ends, the same map that
-//! starts the skid as a plastic impact of the whole line.
+//! after each step put back on the constraint: both ends at their heights
+//! (a turn about the line's in-plane normal, then a shift along `n`), and
+//! their normal speeds zero (a frictionless impulse at the ends, the least
+//! change of kinetic energy; the same map starts the skid as a plastic
+//! impact of the whole line).
 
 mod start;
 #[cfg(test)]
