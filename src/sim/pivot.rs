@@ -199,9 +199,7 @@ impl SupportLine {
             length: far,
         })
     }
-}
 
-impl SupportLine {
     /// A single support corner as a line of no length (its axis any unit
     /// vector in the contact plane).
     pub(crate) fn corner(q: &NearPoint) -> SupportLine {
@@ -279,6 +277,7 @@ impl Pivot {
             axis,
             normal: n,
             length: far,
+            // The turn so far; set again from `turn` at each end below.
             motion: Motion::Hinge(turn.clone()),
             duration: 0.0,
             end: PivotEnd::Duration,
