@@ -170,7 +170,7 @@ fn the_jacobian_is_lost_from_a_pivot_on_and_kept_before_it() {
 /// keystrokes save, `tests/sessions/scissors-bounce.keys`): the scissors
 /// land on the padded peg on their edge. They chattered there in some 540
 /// micro-collisions over 0.45 s; pivoting, they settle in a few events and
-/// rest on the peg.
+/// rest on the peg (or slide on its face to a stop).
 #[test]
 fn the_scissors_bounce_landing_settles_in_a_few_events() {
     let path = concat!(
@@ -193,9 +193,12 @@ fn the_scissors_bounce_landing_settles_in_a_few_events() {
         1,
         "one bounce off the floor"
     );
+    // They rest, or lie on the peg's face sliding to a stop (`sim::rest`,
+    // rule 2).
     let last = tr.tracks[0].segments.last().unwrap();
-    assert!(last.rest, "the scissors do not rest");
     let end = tr.state(0, s.duration, Side::Post);
+    let stopped = last.slide.is_some() && end.v.norm() == 0.0 && end.w.norm() == 0.0;
+    assert!(last.rest || stopped, "the scissors do not rest: {end:?}");
     assert!(
         (0.44..=0.68).contains(&end.x.x) && end.x.y.abs() < 0.08 && (1.31..1.40).contains(&end.x.z),
         "they end at {:?}, not on the low peg",

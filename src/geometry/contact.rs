@@ -641,6 +641,28 @@ impl FlatFace {
             out.dot(&(p - a)) <= tol * out.norm()
         })
     }
+
+    /// How far inside the polygon `p` lies, seen along the normal: the
+    /// least distance to an edge's line (negative outside; infinite for a
+    /// half-space's plane).
+    pub fn depth(&self, p: &Vec3) -> f64 {
+        self.nearest_edge(p).map_or(f64::INFINITY, |(d, _)| d)
+    }
+
+    /// The edge whose line `p` is nearest inside (see [`depth`]): the
+    /// depth and the edge's outward unit normal in the face's plane.
+    ///
+    /// [`depth`]: FlatFace::depth
+    pub fn nearest_edge(&self, p: &Vec3) -> Option<(f64, Vec3)> {
+        let n = self.polygon.len();
+        (0..n)
+            .filter_map(|i| {
+                let (a, b) = (self.polygon[i], self.polygon[(i + 1) % n]);
+                let out = (b - a).cross(&self.normal).try_normalize(0.0)?;
+                Some((-out.dot(&(p - a)), out))
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+    }
 }
 
 /// The flat faces of a part placed by its owner's `pose` that face `dir`

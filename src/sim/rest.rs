@@ -27,7 +27,9 @@
 //!    leaving spinning, tumbling bodies frozen tilted on one corner, or
 //!    mid-air against walls.) A body lying on a face is then put on it
 //!    exactly (`sim::settle`), here and when it slides.
-//! 2. **Slide** — against a half-space only: the normal speeds of all
+//! 2. **Slide** — against a half-space, or a face of a hull with the
+//!    centre of mass over it (ended where the centre reaches the face's
+//!    edge: `rest::face`): the normal speeds of all
 //!    support points are below `v_r` and the centre of mass projects (along
 //!    the plane normal) into their hull, which is a face (three or more
 //!    non-collinear points) or a single ball. The normal motion is removed
@@ -67,6 +69,8 @@
 //! floor; and a body that neither rests nor slides is moving faster than
 //! `v_r` somewhere, which gravity and `e < 1` bounces dissipate.
 
+pub(super) mod face;
+
 use super::dynamics::BodyDynamics;
 use super::roll::Roll;
 use super::state::BodyState;
@@ -74,6 +78,7 @@ use super::statics::{self, Support};
 use crate::geometry::{NearPoint, PartKind, near_points};
 use crate::math::{Mat3, Vec3};
 use crate::scene::Scene;
+pub use face::FaceSlide;
 
 /// A body sliding on a static half-space after its bounces died out
 /// (rule 2 above). The motion is closed form from the segment start.
@@ -93,6 +98,9 @@ pub struct Slide {
     /// A ball's friction on a level plane: it slips, then rolls
     /// (`sim::roll`; `decel` is then its slipping deceleration).
     pub roll: Option<Roll>,
+    /// On a face of a hull (not a half-space): which, and when the slide
+    /// reaches its edge (see `rest::face`).
+    pub face: Option<FaceSlide>,
 }
 
 /// How an impact against an obstacle ends. (Short-lived, one per impact:
@@ -128,6 +136,10 @@ pub(crate) struct Impact<'a> {
     pub band: f64,
     /// The rest speed `v_r` in force for this body (see [`thresholds`]).
     pub v_rest: f64,
+    /// The part of the obstacle hit, and how long the simulation has
+    /// left, s.
+    pub part: usize,
+    pub horizon: f64,
 }
 
 /// An impact is a micro-collision only when it approaches slower than
@@ -315,20 +327,36 @@ pub(crate) fn decide(i: &Impact<'_>) -> Mode {
         return Mode::Rest;
     }
     let bounce = Mode::Bounce;
-    // Sliding: only on a half-space that gravity presses the body into.
+    // Sliding: on a half-space (an obstacle of that alone) or on a face of
+    // a hull with the centre of mass well inside it (`rest::face`), that
+    // gravity presses the body into.
     let o = &scene.obstacles[i.obstacle];
-    let [part] = o.geometry.parts.as_slice() else {
+    let Some(part) = o.geometry.parts.get(i.part) else {
         return bounce;
     };
-    let PartKind::HalfSpace { normal } = part.kind else {
-        return bounce;
+    let sup = || supports(scene, i.body, i.obstacle, s, i.band);
+    let (n, sup, face) = match part.kind {
+        PartKind::HalfSpace { normal } if o.geometry.parts.len() == 1 => {
+            let n = (o.pose * part.offset).rotation * normal;
+            if -g.dot(&n) <= 1e-9 * gn {
+                return bounce;
+            }
+            (n, sup(), None)
+        }
+        PartKind::Convex { .. } => {
+            let sup = sup();
+            let margin = 10.0 * face::EDGE * i.dynamics.reach;
+            let Some(f) = face::under(part, &o.pose, &sup, &s.x, margin) else {
+                return bounce;
+            };
+            (f.normal, sup, Some(f))
+        }
+        _ => return bounce,
     };
-    let n = (o.pose * part.offset).rotation * normal;
     let g_n = -g.dot(&n);
     if g_n <= 1e-9 * gn {
         return bounce;
     }
-    let sup = supports(scene, i.body, i.obstacle, s, i.band);
     if sup
         .iter()
         .any(|p| n.dot(&(s.velocity_at(&p.point))).abs() >= v_r)
@@ -378,15 +406,33 @@ pub(crate) fn decide(i: &Impact<'_>) -> Mode {
     } else {
         None
     };
+    let mut slide = Slide {
+        obstacle: i.obstacle,
+        normal: n,
+        accel,
+        decel: roll.map_or(decel, |r| r.decel),
+        spin_decel,
+        roll,
+        face: None,
+    };
+    if let Some(f) = face {
+        // Settling the body flat on the face (`sim::run::impact`) moves it
+        // along the normal only: the centre's path is this one's.
+        let s0 = BodyState {
+            v: proj_v * s.v,
+            w: proj_w * s.w,
+            ..*s
+        };
+        let edge = face::EDGE * i.dynamics.reach;
+        let until = face::until(&slide, &s0, i.dynamics.drag_k, &f, edge, i.horizon);
+        slide.face = Some(FaceSlide {
+            part: i.part,
+            beside: o.geometry.parts.len() > 1,
+            until,
+        });
+    }
     Mode::Slide {
-        slide: Slide {
-            obstacle: i.obstacle,
-            normal: n,
-            accel,
-            decel: roll.map_or(decel, |r| r.decel),
-            spin_decel,
-            roll,
-        },
+        slide,
         proj_v,
         proj_w,
     }

@@ -19,6 +19,7 @@ mod islands;
 mod pivot;
 mod roll;
 mod saltation;
+mod slide;
 mod sustained;
 
 use super::error::MAX_SUBSTEPS;
@@ -378,8 +379,13 @@ impl Sim<'_> {
         let window = self.opts.window.max(self.scene.accuracy.window());
         let mut win = window;
         while t < duration {
-            // A pivot that ends (lands, lifts off, slips) ends the window.
-            let pivot_end = self.next_pivot_end().filter(|(te, _)| *te < t + win);
+            // A pivot that ends (lands, lifts off, slips) or a slide that
+            // reaches its face's edge ends the window.
+            let pivot_end = [self.next_pivot_end(), self.next_slide_end()]
+                .into_iter()
+                .flatten()
+                .min_by(|x, y| x.0.total_cmp(&y.0))
+                .filter(|(te, _)| *te < t + win);
             let end = pivot_end.map_or(t + win, |(te, _)| te.max(t)).min(duration);
             while frontier < end && self.cursors.iter().any(Option::is_some) {
                 let mut hh = match self.scene.accuracy.method {
@@ -426,6 +432,7 @@ impl Sim<'_> {
                     self.truncate(te);
                     frontier = te;
                     self.end_pivot(te, i)?;
+                    self.end_slide(te, i)?;
                     t = te;
                 }
                 None => {

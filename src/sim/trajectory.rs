@@ -107,11 +107,13 @@ pub enum TangentError {
         "grazing contact at event {event} (t = {t:.6} s, |E_q F| ratio {ratio:.1e}): the motion is not differentiable there; nudge falls back to sampling"
     )]
     Grazing { event: usize, t: f64, ratio: f64 },
-    /// A body froze or woke in an island at an event that has no tangent
-    /// itself (its saltation failed: a grazing contact): the Jacobian of
-    /// the bodies it held or woke is flagged lost from here on.
+    /// A sustained contact without a tangent: a pivot or skid (its start
+    /// and end jump with the controls), a slide on a face that leaves it at
+    /// a graze, or bodies frozen or woken in an island at an event that has
+    /// no tangent itself: the Jacobian of the bodies concerned is flagged
+    /// lost from here on.
     #[error(
-        "bodies rest on bodies from t = {t:.6} s, frozen or woken at an event without a tangent: the motion is not differentiable there; nudge falls back to sampling"
+        "a sustained contact from t = {t:.6} s (a pivot or skid, a slide leaving a face at a graze, or bodies at rest on bodies) has no tangent: the motion is not differentiable there; nudge falls back to sampling"
     )]
     Contact { t: f64 },
     /// The simulation was run without tangents.
@@ -484,12 +486,15 @@ impl Trajectory {
     }
 
     /// Whether `body` leans on obstacle `o` at time `t` (resting on
-    /// anything, sliding on `o`, or pivoting on `o` with its other parts
-    /// clear of the sweep): the pair needs no event search.
+    /// anything, sliding on `o` when it has no other parts, or pivoting on
+    /// `o` with its other parts clear of the sweep): the pair needs no
+    /// event search.
     pub fn supported_by(&self, body: usize, t: f64, o: usize) -> bool {
         let seg = &self.tracks[body].segments[self.segment_index(body, t, Side::Post)];
         seg.rest
-            || seg.slide.is_some_and(|s| s.obstacle == o)
+            || seg
+                .slide
+                .is_some_and(|s| s.obstacle == o && !s.face.is_some_and(|f| f.beside))
             || seg
                 .pivot
                 .as_ref()

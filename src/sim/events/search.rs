@@ -41,17 +41,20 @@ impl World<'_, '_> {
         let pa = self.pose(Party::Body(pair.a), sa);
         let a = Placement::new(self.geometry(Party::Body(pair.a)), &pa);
         match pair.b {
-            // A body pivoting beside other parts of the obstacle is searched
-            // against those only (`sim::pivot`).
-            Party::Obstacle(o) => match self.traj.tracks[pair.a]
-                .segments
-                .last()
-                .and_then(|s| s.pivot.as_deref())
-                .filter(|pv| pv.obstacle == o)
-            {
-                Some(pv) => query(&a, &self.obstacles[o].without(pv.part)),
-                None => query(&a, &self.obstacles[o]),
-            },
+            // A body pivoting or sliding on a face beside other parts of
+            // the obstacle is searched against those only (`sim::pivot`,
+            // `sim::rest::face`).
+            Party::Obstacle(o) => {
+                let on = self.traj.tracks[pair.a].segments.last().and_then(|s| {
+                    let pivot = s.pivot.as_deref().map(|pv| (pv.obstacle, pv.part));
+                    let slide = s.slide.and_then(|sl| Some((sl.obstacle, sl.face?.part)));
+                    pivot.or(slide).filter(|(on, _)| *on == o)
+                });
+                match on {
+                    Some((_, part)) => query(&a, &self.obstacles[o].without(part)),
+                    None => query(&a, &self.obstacles[o]),
+                }
+            }
             Party::Body(_) => {
                 let pb = self.pose(pair.b, sb);
                 query(&a, &Placement::new(self.geometry(pair.b), &pb))

@@ -249,6 +249,8 @@ impl Sim<'_> {
                     post,
                     band,
                     v_rest,
+                    part: contact.part_b,
+                    horizon: self.traj.duration - tc,
                 })
             }
             Party::Body(_) => Mode::Bounce,

@@ -5,6 +5,7 @@
 
 use super::Sim;
 use crate::sim::error::SimError;
+use crate::sim::rest::face;
 use crate::sim::trajectory::Event;
 use nalgebra::DMatrix;
 
@@ -73,10 +74,19 @@ impl Sim<'_> {
         else {
             return Ok(());
         };
-        let rolling = crate::sim::rest::Slide {
+        let mut rolling = crate::sim::rest::Slide {
             roll: Some(roll.rolled()),
             ..slide
         };
+        // On a face of a hull: when the rolling ball's centre reaches its
+        // edge, from here.
+        if let (Some(mut f), Some(on)) = (rolling.face, face::of(self.scene, &slide)) {
+            let d = &self.traj.dynamics[i];
+            let edge = face::EDGE * d.reach;
+            let horizon = self.traj.duration - ts;
+            f.until = face::until(&rolling, &state, d.drag_k, &on, edge, horizon);
+            rolling.face = Some(f);
+        }
         let event = Event {
             index: self.traj.events.len(),
             t: ts,
