@@ -136,9 +136,10 @@ pub(crate) struct Impact<'a> {
     pub band: f64,
     /// The rest speed `v_r` in force for this body (see [`thresholds`]).
     pub v_rest: f64,
-    /// The part of the obstacle hit, and how long the simulation has
-    /// left, s.
+    /// The part of the obstacle hit, the impact's unit normal (out of the
+    /// obstacle), and how long the simulation has left, s.
     pub part: usize,
+    pub normal: Vec3,
     pub horizon: f64,
 }
 
@@ -344,9 +345,17 @@ pub(crate) fn decide(i: &Impact<'_>) -> Mode {
             (n, sup(), None)
         }
         PartKind::Convex { .. } => {
-            let sup = sup();
+            // Asked before the supports are found (most of an impact's
+            // cost): a body that gravity does not press onto the face,
+            // whose centre leaves it at `v_r` or faster (the centre's
+            // normal speed is a mean of the supports' when it lies over
+            // them), or whose centre is not over the face, bounces.
+            let n = i.normal;
+            if -g.dot(&n) <= 1e-9 * gn || n.dot(&s.v).abs() >= v_r {
+                return bounce;
+            }
             let margin = 10.0 * face::EDGE * i.dynamics.reach;
-            let Some(f) = face::under(part, &o.pose, &sup, &s.x, margin) else {
+            let Some((f, sup)) = face::under(part, &o.pose, &n, &s.x, margin, sup) else {
                 return bounce;
             };
             (f.normal, sup, Some(f))

@@ -39,22 +39,23 @@ pub struct FaceSlide {
     pub until: f64,
 }
 
-/// The face of `part` (placed by `pose`) that `supports` lie on (one
-/// normal) with `com` at least `margin` inside its polygon.
+/// The face of `part` (placed by `pose`) facing along `normal` (the
+/// impact's) with `com` at least `margin` inside its polygon, and the
+/// supports on it: `None` unless every one has the face's normal.
 pub(super) fn under(
     part: &Part,
     pose: &Isometry3<f64>,
-    supports: &[NearPoint],
+    normal: &Vec3,
     com: &Vec3,
     margin: f64,
-) -> Option<FlatFace> {
-    let n = supports.first()?.normal;
-    if supports.iter().any(|p| p.normal.dot(&n) < 1.0 - 1e-6) {
-        return None;
-    }
-    flat_faces(part, pose, &n, 1.0 - 1e-6)
+    supports: impl FnOnce() -> Vec<NearPoint>,
+) -> Option<(FlatFace, Vec<NearPoint>)> {
+    let face = flat_faces(part, pose, normal, 1.0 - 1e-6)
         .into_iter()
-        .find(|f| !f.polygon.is_empty() && f.depth(com) >= margin)
+        .find(|f| !f.polygon.is_empty() && f.depth(com) >= margin)?;
+    let sup = supports();
+    let n = face.normal;
+    (!sup.is_empty() && sup.iter().all(|p| p.normal.dot(&n) >= 1.0 - 1e-6)).then_some((face, sup))
 }
 
 /// When the slide that starts from `s0` first brings the centre of mass

@@ -250,6 +250,7 @@ impl Sim<'_> {
                     band,
                     v_rest,
                     part: contact.part_b,
+                    normal: contact.normal,
                     horizon: self.traj.duration - tc,
                 })
             }
