@@ -381,11 +381,7 @@ impl Sim<'_> {
         while t < duration {
             // A pivot that ends (lands, lifts off, slips) or a slide that
             // reaches its face's edge ends the window.
-            let pivot_end = [self.next_pivot_end(), self.next_slide_end()]
-                .into_iter()
-                .flatten()
-                .min_by(|x, y| x.0.total_cmp(&y.0))
-                .filter(|(te, _)| *te < t + win);
+            let pivot_end = self.next_contact_end().filter(|(te, _)| *te < t + win);
             let end = pivot_end.map_or(t + win, |(te, _)| te.max(t)).min(duration);
             while frontier < end && self.cursors.iter().any(Option::is_some) {
                 let mut hh = match self.scene.accuracy.method {

@@ -101,21 +101,6 @@ impl Sim<'_> {
         }
     }
 
-    /// The earliest end of a pivot in progress (time, body), other than
-    /// the end of the simulation.
-    pub(super) fn next_pivot_end(&self) -> Option<(f64, usize)> {
-        self.traj
-            .tracks
-            .iter()
-            .enumerate()
-            .filter_map(|(i, track)| {
-                let seg = track.segments.last()?;
-                let pv = seg.pivot.as_ref()?;
-                (pv.end != PivotEnd::Duration).then_some((seg.t0 + pv.duration, i))
-            })
-            .min_by(|x, y| x.0.total_cmp(&y.0))
-    }
-
     /// End body `i`'s pivot at `te`: the landing point's impact, or free
     /// flight from the same state.
     pub(super) fn end_pivot(&mut self, te: f64, i: usize) -> Result<(), SimError> {

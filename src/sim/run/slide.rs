@@ -1,25 +1,32 @@
 //! Slides on a face of a hull in the run loop: their end where the
-//! centre of mass reaches the face's edge (`sim::rest::face`). No
-//! impulse: the state is continuous and the body flies on from it; the
-//! Jacobian is carried across as the saltation of a switch of flows,
-//! `J⁺ = J⁻ + (F_slide − F_free) dτ/du`, with `dτ/du = −∇g J⁻ / (∇g F_slide)`
-//! for `g = −out·(x − a)`, the centre's depth inside the edge (`out` its
-//! outward normal in the face's plane, `a` a point of it).
+//! centre of mass reaches the face's edge (`sim::rest::face`), and which
+//! pivot or slide ends next. No impulse: the state is continuous and the
+//! body flies on from it; the Jacobian is carried across as the saltation
+//! of a switch of flows, `J⁺ = J⁻ + (F_slide − F_free) dτ/du`, with
+//! `dτ/du = −∇g J⁻ / (∇g F_slide)` for `g = −out·(x − a)`, the centre's
+//! depth inside the edge (`out` its outward normal in the face's plane,
+//! `a` a point of it).
 
 use super::*;
+use crate::sim::pivot::PivotEnd;
 use crate::sim::rest::face;
 
 impl Sim<'_> {
-    /// The earliest end of a slide on a face in progress (time, body).
-    pub(super) fn next_slide_end(&self) -> Option<(f64, usize)> {
+    /// The earliest end of a pivot or of a slide on a face in progress
+    /// (time, body), other than the end of the simulation.
+    pub(super) fn next_contact_end(&self) -> Option<(f64, usize)> {
         self.traj
             .tracks
             .iter()
             .enumerate()
             .filter_map(|(i, track)| {
                 let seg = track.segments.last()?;
-                let f = seg.slide?.face?;
-                f.until.is_finite().then_some((seg.t0 + f.until, i))
+                let after = match (&seg.pivot, seg.slide.and_then(|s| s.face)) {
+                    (Some(pv), _) => (pv.end != PivotEnd::Duration).then_some(pv.duration),
+                    (None, Some(f)) => f.until.is_finite().then_some(f.until),
+                    (None, None) => None,
+                };
+                after.map(|a| (seg.t0 + a, i))
             })
             .min_by(|x, y| x.0.total_cmp(&y.0))
     }
