@@ -9,8 +9,9 @@
 //! mass comes within [`EDGE`] of the face's edge: the body flies on from
 //! there (it starts to tip over the edge) and its next impact decides
 //! again. The time is found by conservative advancement along the
-//! closed-form slide: the centre's depth inside the face polygon over a
-//! bound of its speed is a time in which it cannot reach the edge.
+//! closed-form slide (the centre's depth inside the face polygon over a
+//! bound of its speed is a time in which it cannot reach the edge), then
+//! by Newton's method onto the edge.
 
 use super::Slide;
 use crate::geometry::{FlatFace, NearPoint, Part, flat_faces};
