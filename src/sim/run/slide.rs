@@ -46,22 +46,16 @@ impl Sim<'_> {
                 .and_then(|f| f.nearest_edge(&s.x))
                 .and_then(|(_, out)| {
                     let f_pre = slide.flow(&s, d.drag_k);
-                    let f_free = d.state_derivative(&s, &self.traj.gravity);
                     // The centre must be leaving (∇g = −out on δx alone).
                     let rate = -out.dot(&f_pre[0]);
                     if rate.is_nan() || rate >= -1e-6 * s.v.norm() {
                         return None;
                     }
                     let dtau = j_pre.rows(0, 3).tr_mul(&out) / rate;
-                    let mut j = j_pre;
-                    for (k, (a, b)) in f_pre.iter().zip(&f_free).enumerate() {
-                        let jump = a - b;
-                        for c in 0..j.ncols() {
-                            for row in 0..3 {
-                                j[(3 * k + row, c)] += jump[row] * dtau[c];
-                            }
-                        }
-                    }
+                    let f_pre =
+                        DVector::from_iterator(12, f_pre.iter().flat_map(|v| v.iter().copied()));
+                    let jump = f_pre - self.traj.flow(i, &s, false);
+                    let j = j_pre + jump * dtau.transpose();
                     j.iter().all(|v| v.is_finite()).then_some(j)
                 }),
             Err(_) => None,
