@@ -184,6 +184,81 @@ fn a_drag_blocked_at_the_ridge_continues_from_an_alternative_beyond_it() {
     );
 }
 
+/// (a, continued) The drag's goal lies where a ball leaving the ridge's
+/// top goes: the ball's radius rounds the ridge's edge, so its normal
+/// turns through every direction between the two facets'. Sampled alone
+/// (no polishing), the best alternative bounces on that edge instead of
+/// the facet left of the ridge; accepted, it is where the user's nudges
+/// towards the goal meet it, in a few differential edits and without
+/// leaving that collision sequence.
+#[test]
+fn the_drag_blocked_at_the_ridge_is_met_by_nudges_from_the_sampled_ridge_bounce() {
+    let mut editor = replay("particle-polygon", "polygon-blocked");
+    let goal = editor.pending_drag().cloned().expect("a blocked drag");
+    let (Anchor::Time(t), Kind::State { target, .. }) = (goal.anchor, &goal.kind) else {
+        panic!("a drag of a state at a time: {goal:?}");
+    };
+    let target = Vector3::new(target[0], target[1], target[2]);
+    let miss = |e: &Editor| (target - position(e, 0, t)).norm();
+    let before = miss(&editor);
+    let opts = ExploreOptions {
+        polish: 0,
+        ..ExploreOptions::default()
+    };
+    let x = explore_in(2, &editor, &opts);
+    let best = &x.alternatives[0];
+    assert_eq!(best.polished, 0, "as sampled");
+    let first = best.contacts.first().expect("a bounce");
+    assert!(
+        first.other == "hill" && first.feature.starts_with("edge"),
+        "the best sampled world bounces on an edge of the hill: {best:?}"
+    );
+    assert!(
+        best.residual < before,
+        "{} is nearer the goal than {before}",
+        best.residual
+    );
+    editor.apply(best.edit()).expect("accepted");
+    let ridge = editor.trajectory().events[0].clone();
+    assert!(
+        ridge.point.x.abs() < 1e-9,
+        "it bounces on the ridge's top (x = 0): {:?}",
+        ridge.point
+    );
+    let mut last = miss(&editor);
+    for nudge in 0..10 {
+        let delta = target - position(&editor, 0, t);
+        let out = editor
+            .apply(Edit::Nudge {
+                quantity: StateQuantity::Position,
+                delta,
+            })
+            .expect("nudge");
+        assert!(
+            !out.notes.iter().any(|n| matches!(
+                n,
+                Note::Solver(Diagnostic::Pop { .. } | Diagnostic::Blocked)
+            )),
+            "nudge {nudge}: {:?}",
+            out.notes
+        );
+        assert_eq!(
+            editor.trajectory().events[0].key,
+            ridge.key,
+            "nudge {nudge} keeps the bounce on the ridge's edge"
+        );
+        assert!(miss(&editor) < last, "nudge {nudge} moved away");
+        last = miss(&editor);
+        if last < 1e-9 {
+            break;
+        }
+    }
+    assert!(
+        last < 1e-9,
+        "the nudges met the goal to {last:.3e} m (from {before:.3} m)"
+    );
+}
+
 /// (b) Paper §6, Figure 5a: from the unedited throw, with each egg nailed
 /// over its bucket, exploring finds a motion in which the eggs meet in
 /// the air and each lands in its own bucket; a settle from it meets both
