@@ -614,6 +614,30 @@ fn the_editor_explores_in_the_background_and_takes_an_alternative() {
     assert!(!r.quit);
 }
 
+/// `S` takes the alternative shown and settles from it in one key: from
+/// the eggs' unedited throw with a nail over each bucket, the first
+/// alternative is taken (one undoable edit) and the settle meets both
+/// nails.
+#[test]
+fn s_takes_the_alternative_and_settles_from_it() {
+    let mut editor = replay("eggs", "eggs-nailed");
+    let before = editor.report()["residual"].as_f64().expect("residual");
+    assert!(before > 1.0, "the nails are far: {before}");
+    let keys = parse_keys(":explore<Enter> S", "s.keys").expect("keys");
+    let r = run_script(&mut editor, &keys, (100, 30));
+    let residual = editor.report()["residual"].as_f64().expect("residual");
+    assert!(
+        residual <= 1e-9,
+        "settled residual {residual:.3e}:\n{}",
+        r.screen
+    );
+    // Undo the settle, then the take: back to the unedited throw.
+    editor.apply(Edit::Undo).expect("undo the settle");
+    editor.apply(Edit::Undo).expect("undo the take");
+    let back = editor.report()["residual"].as_f64().expect("residual");
+    assert_eq!(back, before, "two undos restore the throw");
+}
+
 /// While alternatives are shown, the editing keys they do not rebind still
 /// work: `:` opens the command line (Enter runs it, not "take"), and an
 /// edit of the motion dismisses them.

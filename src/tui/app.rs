@@ -430,7 +430,11 @@ impl App {
             Action::Accuracy => self.measure_accuracy(core),
             Action::PickAccuracy => self.pick_accuracy(core),
             Action::Alternative(sense) => self.step_alternative(sense),
-            Action::AcceptAlternative => self.accept_alternative(core),
+            Action::AcceptAlternative { settle } => {
+                if self.accept_alternative(core) && settle {
+                    self.settle(core, SETTLE_MS);
+                }
+            }
             Action::ToggleGhost => {
                 self.show_ghost = !self.show_ghost;
                 let shown = if self.show_ghost { "shown" } else { "hidden" };

@@ -163,8 +163,10 @@ pub enum Action {
     Explore,
     /// Show the next or previous alternative.
     Alternative(Sense),
-    /// Take the alternative shown.
-    AcceptAlternative,
+    /// Take the alternative shown; with `settle`, settle from it at once.
+    AcceptAlternative {
+        settle: bool,
+    },
     /// Measure the accuracy settings around the current one.
     Accuracy,
     /// Make the setting chosen in the accuracy popup the scene's.
@@ -237,7 +239,7 @@ impl Action {
             Action::ToggleGhost => "ToggleGhost",
             Action::Explore => "Explore",
             Action::Alternative(_) => "Alternative",
-            Action::AcceptAlternative => "AcceptAlternative",
+            Action::AcceptAlternative { .. } => "AcceptAlternative",
             Action::Accuracy => "Accuracy",
             Action::PickAccuracy => "PickAccuracy",
             Action::Quit => "Quit",
@@ -287,7 +289,7 @@ impl Action {
             Action::ToggleGhost,
             Action::Explore,
             Action::Alternative(Sense::Back),
-            Action::AcceptAlternative,
+            Action::AcceptAlternative { settle: false },
             Action::Accuracy,
             Action::PickAccuracy,
             Action::Quit,
@@ -475,7 +477,8 @@ pub static KEYMAP: &[Binding] = &[
     hint(ch('k'), Exp, Action::Alternative(Sense::Back), "previous alternative", "others"),
     bind(code(KeyCode::Tab), Exp, Action::Alternative(Sense::Forward), "next alternative"),
     bind(code(KeyCode::Tab).shift(), Exp, Action::Alternative(Sense::Back), "previous alternative"),
-    hint(code(KeyCode::Enter), Exp, Action::AcceptAlternative, "take the alternative shown (u undoes)", "take"),
+    hint(code(KeyCode::Enter), Exp, Action::AcceptAlternative { settle: false }, "take the alternative shown (u undoes)", "take"),
+    hint(ch('S'), Exp, Action::AcceptAlternative { settle: true }, "take it and settle from it (u undoes)", "take+settle"),
     hint(code(KeyCode::Esc), Exp, Action::Cancel, "dismiss the alternatives", "dismiss"),
 ];
 

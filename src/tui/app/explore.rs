@@ -223,29 +223,30 @@ impl App {
         }
     }
 
-    /// Accept the alternative shown: an undoable edit.
-    pub(super) fn accept_alternative(&mut self, core: &mut impl Core) {
+    /// Accept the alternative shown: an undoable edit. Whether it was taken.
+    pub(super) fn accept_alternative(&mut self, core: &mut impl Core) -> bool {
         let Exploring::Browsing {
             alternatives,
             index,
         } = &self.exploring
         else {
-            return;
+            return false;
         };
         let Some(alt) = alternatives.get(*index).cloned() else {
-            return;
+            return false;
         };
         let k = *index + 1;
         self.exploring = Exploring::Idle;
-        if self
+        let taken = self
             .apply(core, Edit::SetControls(alt.controls.clone()))
-            .is_some()
-        {
+            .is_some();
+        if taken {
             self.say_info(format!(
                 "took alternative {k}: {} (u undoes; s settles from here)",
                 alt.description
             ));
         }
+        taken
     }
 
     /// The alternative shown, if browsing.
@@ -264,7 +265,7 @@ impl App {
     fn say_alternative(&mut self) {
         if let Some((a, k, n)) = self.alternative() {
             let text = format!(
-                "alternative {k}/{n}: {}; score {}, {} events (Enter takes it, j/k others, Esc)",
+                "alternative {k}/{n}: {}; score {}, {} events (Enter takes it, S settles too, j/k others, Esc)",
                 a.description,
                 super::super::format::num(a.score, 7),
                 a.events
