@@ -90,3 +90,23 @@ fn accuracy_popup_on_the_bounce() {
     let s = screen("scenes/bounce.toml", ":accuracy<Enter>", (80, 24));
     insta::assert_snapshot!(s);
 }
+
+/// Exploring the drag blocked at the ridge of the polygonal hill: the
+/// alternative shown is drawn dotted over the motion, and the status line
+/// gives its rank, what differs from the motion, its score and events,
+/// and the keys that browse, take (Enter; S settles too) or dismiss them.
+#[test]
+fn alternatives_after_exploring_the_blocked_drag() {
+    let blocked = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures/explore/polygon-blocked.keys"),
+    )
+    .expect("fixture");
+    let s = screen(
+        "scenes/particle-polygon.toml",
+        &format!("{blocked}\n:explore 512<Enter>"),
+        (80, 24),
+    );
+    assert!(s.contains("alternative 1/"), "{s}");
+    insta::assert_snapshot!(s);
+}
