@@ -199,12 +199,33 @@ fn rk_step(
     first: Option<&[f64]>,
     h: f64,
     evals: &mut u64,
+    out: (&mut [f64], &mut [f64]),
+) {
+    // One instance per length, so the loops over the vector have a
+    // constant trip count (the state alone, the common case, is 6 long).
+    match z0.len() {
+        Z_STATE => rk_step_n::<Z_STATE>(tab, d, z0, first, h, evals, out),
+        Z_TRANSITION => rk_step_n::<Z_TRANSITION>(tab, d, z0, first, h, evals, out),
+        _ => rk_step_n::<Z_LEN>(tab, d, z0, first, h, evals, out),
+    }
+}
+
+/// [`rk_step`] for a vector of length `N`.
+#[inline(always)]
+fn rk_step_n<const N: usize>(
+    tab: &Tableau,
+    d: &BodyDynamics,
+    z0: &[f64],
+    first: Option<&[f64]>,
+    h: f64,
+    evals: &mut u64,
     (z1, k): (&mut [f64], &mut [f64]),
 ) {
-    let n = z0.len();
+    let n = N;
+    let z0 = &z0[..N];
     let s = tab.c.len();
-    let mut stage = [0.0; Z_LEN];
-    let zi = &mut stage[..n];
+    let mut stage = [0.0; N];
+    let zi = &mut stage[..];
     let start = match first {
         Some(f0) => {
             k[..n].copy_from_slice(f0);
