@@ -623,12 +623,18 @@ fn s_takes_the_alternative_and_settles_from_it() {
     let mut editor = replay("eggs", "eggs-nailed");
     let before = editor.report()["residual"].as_f64().expect("residual");
     assert!(before > 1.0, "the nails are far: {before}");
-    let keys = parse_keys(":explore<Enter> S", "s.keys").expect("keys");
+    let keys = parse_keys(":explore<Enter> S :messages<Enter>", "s.keys").expect("keys");
     let r = run_script(&mut editor, &keys, (100, 30));
     let residual = editor.report()["residual"].as_f64().expect("residual");
     assert!(
         residual <= 1e-9,
         "settled residual {residual:.3e}:\n{}",
+        r.screen
+    );
+    // The log says what happened, though the edit's warnings took the line.
+    assert!(
+        r.screen.contains("took alternative 1") && r.screen.contains("settling from it"),
+        "{}",
         r.screen
     );
     // Undo the settle, then the take: back to the unedited throw.

@@ -431,7 +431,7 @@ impl App {
             Action::PickAccuracy => self.pick_accuracy(core),
             Action::Alternative(sense) => self.step_alternative(sense),
             Action::AcceptAlternative { settle } => {
-                if self.accept_alternative(core) && settle {
+                if self.accept_alternative(core, settle) && settle {
                     self.settle(core, SETTLE_MS);
                 }
             }
@@ -677,6 +677,24 @@ impl App {
     fn say_info(&mut self, text: impl Into<String>) {
         if self.message.is_none() {
             self.say(Level::Info, text);
+        }
+    }
+
+    /// An informative message that is always logged (`M`), and shown
+    /// unless this key already put a message on the line (a warning from
+    /// the edit keeps it).
+    fn tell(&mut self, text: impl Into<String>) {
+        if self.message.is_none() {
+            self.say(Level::Info, text);
+        } else {
+            let message = Message {
+                text: text.into(),
+                level: Level::Info,
+            };
+            if self.log.len() >= LOG_LIMIT {
+                self.log.remove(0);
+            }
+            self.log.push(message);
         }
     }
 }

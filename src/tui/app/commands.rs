@@ -194,10 +194,11 @@ impl App {
             && core.view().status.busy.is_none()
         {
             let residual = crate::tui::format::num(core.view().status.residual, 8);
-            self.say_info(format!(
-                "settled: {} updates, residual {residual}",
-                o.updates
-            ));
+            let updates = match o.updates {
+                1 => "1 update".to_string(),
+                n => format!("{n} updates"),
+            };
+            self.tell(format!("settled: {updates}, residual {residual}"));
         }
     }
 

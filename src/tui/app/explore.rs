@@ -223,8 +223,9 @@ impl App {
         }
     }
 
-    /// Accept the alternative shown: an undoable edit. Whether it was taken.
-    pub(super) fn accept_alternative(&mut self, core: &mut impl Core) -> bool {
+    /// Accept the alternative shown: an undoable edit (the caller settles
+    /// from it when `settling`). Whether it was taken.
+    pub(super) fn accept_alternative(&mut self, core: &mut impl Core, settling: bool) -> bool {
         let Exploring::Browsing {
             alternatives,
             index,
@@ -241,8 +242,13 @@ impl App {
             .apply(core, Edit::SetControls(alt.controls.clone()))
             .is_some();
         if taken {
-            self.say_info(format!(
-                "took alternative {k}: {} (u undoes; s settles from here)",
+            let next = if settling {
+                "settling from it"
+            } else {
+                "s settles from here"
+            };
+            self.tell(format!(
+                "took alternative {k}: {} (u undoes; {next})",
                 alt.description
             ));
         }
