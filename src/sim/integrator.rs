@@ -201,8 +201,9 @@ fn rk_step(
     evals: &mut u64,
     out: (&mut [f64], &mut [f64]),
 ) {
-    // One instance per length, so the loops over the vector have a
-    // constant trip count (the state alone, the common case, is 6 long).
+    // One instance per length of `Columns::vector_len`, so the loops over
+    // the vector have a constant trip count (the state alone, the common
+    // case when exploring, is 6 long).
     match z0.len() {
         Z_STATE => rk_step_n::<Z_STATE>(tab, d, z0, first, h, evals, out),
         Z_TRANSITION => rk_step_n::<Z_TRANSITION>(tab, d, z0, first, h, evals, out),

@@ -636,15 +636,19 @@ impl App {
             text: text.into(),
             level,
         };
-        // A message repeated at once (the same unbound key pressed again)
-        // is logged once.
+        self.keep_in_log(message.clone());
+        self.message = Some(message);
+    }
+
+    /// Keep `message` in the log (`M`). A message repeated at once (the
+    /// same unbound key pressed again) is logged once.
+    fn keep_in_log(&mut self, message: Message) {
         if self.log.last() != Some(&message) {
             if self.log.len() >= LOG_LIMIT {
                 self.log.remove(0);
             }
-            self.log.push(message.clone());
+            self.log.push(message);
         }
-        self.message = Some(message);
     }
 
     /// The last command line that did not parse, if any since the last
@@ -687,14 +691,10 @@ impl App {
         if self.message.is_none() {
             self.say(Level::Info, text);
         } else {
-            let message = Message {
+            self.keep_in_log(Message {
                 text: text.into(),
                 level: Level::Info,
-            };
-            if self.log.len() >= LOG_LIMIT {
-                self.log.remove(0);
-            }
-            self.log.push(message);
+            });
         }
     }
 }
