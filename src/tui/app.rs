@@ -29,6 +29,7 @@ mod accuracy;
 mod commands;
 mod explore;
 mod job;
+mod messages;
 mod mouse;
 
 pub use accuracy::{Measurements, Measuring, Timer};
@@ -631,35 +632,10 @@ impl App {
         }
     }
 
-    fn say(&mut self, level: Level, text: impl Into<String>) {
-        let message = Message {
-            text: text.into(),
-            level,
-        };
-        self.keep_in_log(message.clone());
-        self.message = Some(message);
-    }
-
-    /// Keep `message` in the log (`M`). A message repeated at once (the
-    /// same unbound key pressed again) is logged once.
-    fn keep_in_log(&mut self, message: Message) {
-        if self.log.last() != Some(&message) {
-            if self.log.len() >= LOG_LIMIT {
-                self.log.remove(0);
-            }
-            self.log.push(message);
-        }
-    }
-
     /// The last command line that did not parse, if any since the last
     /// call (a key script stops there).
     pub fn take_command_error(&mut self) -> Option<command::CommandError> {
         self.command_error.take()
-    }
-
-    /// Every message so far, oldest first.
-    pub fn log(&self) -> &[Message] {
-        &self.log
     }
 
     /// What the popups show, with the scene's `notes`.
@@ -675,27 +651,6 @@ impl App {
     /// Open a popup at its top.
     fn open(&mut self, kind: PopupKind) {
         self.input = Input::Popup { kind, scroll: 0 };
-    }
-
-    /// An informational message, unless the edit already left a diagnostic.
-    fn say_info(&mut self, text: impl Into<String>) {
-        if self.message.is_none() {
-            self.say(Level::Info, text);
-        }
-    }
-
-    /// An informative message that is always logged (`M`), and shown
-    /// unless this key already put a message on the line (a warning from
-    /// the edit keeps it).
-    fn tell(&mut self, text: impl Into<String>) {
-        if self.message.is_none() {
-            self.say(Level::Info, text);
-        } else {
-            self.keep_in_log(Message {
-                text: text.into(),
-                level: Level::Info,
-            });
-        }
     }
 }
 
