@@ -3,7 +3,7 @@
 //! edit, and the result does not depend on the number of threads.
 
 use nalgebra::Vector3;
-use nudge::edit::{Core, Edit, Editor, Note};
+use nudge::edit::{Core, Edit, Editor, Note, Outcome};
 use nudge::explore::{self, Alternative, Exploration, ExploreOptions, Progress, Start, Tally};
 use nudge::scene::StateQuantity;
 use nudge::script::{parse_keys, run_script};
@@ -57,6 +57,18 @@ fn controls(editor: &Editor) -> Vec<f64> {
 /// The body's position at time `t`.
 fn position(editor: &Editor, body: usize, t: f64) -> Vector3<f64> {
     editor.trajectory().state(body, t, Side::Post).x
+}
+
+/// Nudge the ball's position at `t` by the whole way to `target` (the
+/// solver takes what it can of it).
+fn nudge_towards(editor: &mut Editor, target: &Vector3<f64>, t: f64) -> Outcome {
+    let delta = target - position(editor, 0, t);
+    editor
+        .apply(Edit::Nudge {
+            quantity: StateQuantity::Position,
+            delta,
+        })
+        .expect("nudge")
 }
 
 /// (a) Paper §5: at t = 1 s the drag of the ball to the right is blocked
@@ -148,13 +160,7 @@ fn a_drag_blocked_at_the_ridge_continues_from_an_alternative_beyond_it() {
     let before = miss(&editor);
     let mut last = before;
     for nudge in 0..20 {
-        let delta = target - position(&editor, 0, t);
-        let out = editor
-            .apply(Edit::Nudge {
-                quantity: StateQuantity::Position,
-                delta,
-            })
-            .expect("nudge");
+        let out = nudge_towards(&mut editor, &target, t);
         let solver = |f: fn(&Diagnostic) -> bool| {
             out.notes
                 .iter()
@@ -227,13 +233,7 @@ fn the_drag_blocked_at_the_ridge_is_met_by_nudges_from_the_sampled_ridge_bounce(
     );
     let mut last = miss(&editor);
     for nudge in 0..10 {
-        let delta = target - position(&editor, 0, t);
-        let out = editor
-            .apply(Edit::Nudge {
-                quantity: StateQuantity::Position,
-                delta,
-            })
-            .expect("nudge");
+        let out = nudge_towards(&mut editor, &target, t);
         assert!(
             !out.notes.iter().any(|n| matches!(
                 n,
