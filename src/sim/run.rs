@@ -427,8 +427,7 @@ impl Sim<'_> {
                     let (te, i) = pivot_end.unwrap_or((end, 0));
                     self.truncate(te);
                     frontier = te;
-                    self.end_pivot(te, i)?;
-                    self.end_slide(te, i)?;
+                    self.end_contact(te, i)?;
                     t = te;
                 }
                 None => {

@@ -31,8 +31,23 @@ impl Sim<'_> {
             .min_by(|x, y| x.0.total_cmp(&y.0))
     }
 
+    /// End body `i`'s pivot or face slide at `te`, whichever its segment
+    /// is. (One of the two only: a pivot's landing impact may start a
+    /// slide on a face, which must not be ended at once.)
+    pub(super) fn end_contact(&mut self, te: f64, i: usize) -> Result<(), SimError> {
+        let pivoting = self.traj.tracks[i]
+            .segments
+            .last()
+            .is_some_and(|s| s.pivot.is_some());
+        if pivoting {
+            self.end_pivot(te, i)
+        } else {
+            self.end_slide(te, i)
+        }
+    }
+
     /// End body `i`'s slide at `te`: free flight from the same state.
-    pub(super) fn end_slide(&mut self, te: f64, i: usize) -> Result<(), SimError> {
+    fn end_slide(&mut self, te: f64, i: usize) -> Result<(), SimError> {
         let Some(seg) = self.traj.tracks[i].segments.last() else {
             return Ok(());
         };
