@@ -330,3 +330,39 @@ fn a_box_tipped_onto_an_edge_of_a_slippery_floor_skids_and_lies_flat() {
     let end = lies_flat_in_a_few_events(&tr, s.duration);
     assert!((end.x.z - 0.05).abs() < 1e-6, "centre at z = {}", end.x.z);
 }
+
+/// Under the box's edge a 6 cm beam instead of the floor: as the box
+/// topples its broad face reaches the beam's top plane 20 cm beyond the
+/// beam, where there is nothing to land on. A pivot's landing is found on
+/// its contact plane, so that one is refused (the box tips off the beam
+/// in impacts against it), and no impact is ever off the beam (by more
+/// than a millimetre: an event's point is the body's, within the support
+/// band above the surface).
+#[test]
+fn a_pivot_never_lands_beyond_the_face_it_turns_on() {
+    let tr = run(&tipped_box(), &SimOptions::without_tangents());
+    let (_, pv) = *pivots(&tr).first().expect("a pivot on the floor");
+    assert!(
+        pv.axis.cross(&Vec3::x()).norm() < 1e-9,
+        "axis {:?}",
+        pv.axis
+    );
+    let half = Vec3::new(0.5, 0.03, 0.05);
+    let centre = Vec3::new(0.0, pv.point.y, -half.z);
+    let mut s = tipped_box();
+    let mut beam = testkit::obstacle("beam", Geometry::cuboid(half).unwrap(), centre);
+    beam.friction = 1.0;
+    s.obstacles = vec![beam];
+    let tr = run(&s, &SimOptions::without_tangents());
+    assert!(!tr.events.is_empty(), "the box never touches the beam");
+    for e in &tr.events {
+        let off = (e.point - centre).abs() - half;
+        assert!(
+            off.max() < 1e-3,
+            "an impact {:.3e} m off the beam at t = {}: {}",
+            off.max(),
+            e.t,
+            e.key
+        );
+    }
+}

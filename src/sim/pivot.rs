@@ -31,7 +31,9 @@
 //! lost only at the impact that starts it. While pivoting, the part the
 //! body turns on is not searched: the landing is found on the contact
 //! plane (a half-space, or the face the edge lies on, taken as unbounded),
-//! and that part must lie below it. The obstacle's other parts (a shelf's
+//! and that part must lie below it. On a face, the landing point must be
+//! over the face's polygon, or there is no pivot (beyond the face's edge
+//! the body would swing on below the plane). The obstacle's other parts (a shelf's
 //! lip, the pole of a coatrack) are searched as usual when they come near
 //! the space the body sweeps, and a contact with one ends the pivot in an
 //! impact; when none comes near, the pair is not searched at all. The body's
@@ -51,7 +53,7 @@ mod turning;
 
 use super::dynamics::BodyDynamics;
 use super::state::BodyState;
-use crate::geometry::{NearPoint, PartKind};
+use crate::geometry::{NearPoint, PartKind, flat_faces};
 use crate::math::{Vec3, exp_so3};
 use crate::scene::Scene;
 pub use skid::Skid;
@@ -457,6 +459,21 @@ impl Pivot {
         // once, not a pivot: it stays a micro-collision.
         if self.end == PivotEnd::Lands && self.duration < STEP {
             return None;
+        }
+        // The landing is found on the contact plane; on a face of a hull it
+        // must be over the face (beyond its edge the body swings on past
+        // the plane, which this hinge does not follow).
+        if let (PivotEnd::Lands, Some((_, v))) = (self.end, self.landing) {
+            let o = &p.scene.obstacles[p.obstacle];
+            let face = o.geometry.parts.get(p.part).and_then(|part| {
+                flat_faces(part, &o.pose, &self.normal, 1.0 - 1e-6)
+                    .into_iter()
+                    .next()
+            });
+            let at = self.at(self.duration).point(&v);
+            if face.is_none_or(|f| f.depth(&at) < 0.0) {
+                return None;
+            }
         }
         match self.clear(p, &self.padded(swept, reach, p)) {
             Clear::Blocked => return None,
