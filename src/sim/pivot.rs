@@ -49,6 +49,7 @@
 //! A body on a single slipping corner skids on that corner.
 
 mod skid;
+pub(crate) mod topple;
 mod turning;
 
 use super::dynamics::BodyDynamics;
@@ -152,6 +153,10 @@ pub(crate) struct PivotStart<'a> {
     /// The rest speed in force for the body, m/s: a skid's ends stick
     /// below it.
     pub v_rest: f64,
+    /// The line is the edge of the support polygon of a body lying on a
+    /// face, toppling over it (`pivot::topple`): the plastic impact of the
+    /// whole patch stops any turn back onto it.
+    pub topple: bool,
 }
 
 /// The line a body's support points make on one obstacle.
@@ -265,6 +270,13 @@ impl Pivot {
         let r_perp = r0 - axis * axis.dot(&r0);
         let c_cos = d.mass * g.dot(&axis.cross(&r_perp)) / i_a;
         let c_sin = -d.mass * g.dot(&r_perp) / i_a;
+        // Gravity turns the body the way `c_cos` (its pull at θ = 0)
+        // points; a toppling body's patch takes any turn the other way.
+        let rate = if p.topple && rate * c_cos < 0.0 {
+            0.0
+        } else {
+            rate
+        };
         let mut turn = Turn {
             q0: s.q,
             r0,

@@ -224,38 +224,10 @@ pub(crate) fn over_hull(points: &[Vec3], com: &Vec3, dir: &Vec3, tol: f64) -> (b
     if points.is_empty() {
         return (false, false);
     }
-    let d = dir.normalize();
-    let t1 = d
-        .cross(&Vec3::x())
-        .try_normalize(1e-6)
-        .unwrap_or_else(|| d.cross(&Vec3::y()).normalize());
-    let t2 = d.cross(&t1);
+    let (t1, t2) = plane_basis(dir);
     let flat = |p: &Vec3| [t1.dot(&(p - com)), t2.dot(&(p - com))];
-    let mut pts: Vec<[f64; 2]> = points.iter().map(flat).collect();
-    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    pts.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-12);
-    let cross = |o: &[f64; 2], a: &[f64; 2], b: &[f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
-    // Andrew's monotone chain.
-    let mut hull: Vec<[f64; 2]> = Vec::new();
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for p in iter {
-            while hull.len() >= start + 2
-                && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(*p);
-        }
-        hull.pop();
-    }
+    let pts: Vec<[f64; 2]> = points.iter().map(flat).collect();
+    let hull = convex_hull(pts.clone());
     // Distance from the origin (the centre of mass) to a segment.
     let seg = |a: &[f64; 2], b: &[f64; 2]| {
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
@@ -268,7 +240,7 @@ pub(crate) fn over_hull(points: &[Vec3], com: &Vec3, dir: &Vec3, tol: f64) -> (b
         (a[0] + s * dx).hypot(a[1] + s * dy)
     };
     let area: f64 = (0..hull.len())
-        .map(|i| cross(&[0.0, 0.0], &hull[i], &hull[(i + 1) % hull.len()]))
+        .map(|i| cross2(&[0.0, 0.0], &hull[i], &hull[(i + 1) % hull.len()]))
         .sum::<f64>()
         * 0.5;
     let scale = pts
@@ -282,11 +254,53 @@ pub(crate) fn over_hull(points: &[Vec3], com: &Vec3, dir: &Vec3, tol: f64) -> (b
         1 => hull[0][0].hypot(hull[0][1]) <= tol,
         2 => seg(&hull[0], &hull[1]) <= tol,
         n => {
-            (0..n).all(|i| cross(&hull[i], &hull[(i + 1) % n], &[0.0, 0.0]) >= 0.0)
+            (0..n).all(|i| cross2(&hull[i], &hull[(i + 1) % n], &[0.0, 0.0]) >= 0.0)
                 || (0..n).any(|i| seg(&hull[i], &hull[(i + 1) % n]) <= tol)
         }
     };
     (inside, polygon)
+}
+
+/// Two unit vectors spanning the plane normal to `dir`, with `dir` a
+/// right-handed frame (`t1 × t2 = dir`, normalised).
+pub(crate) fn plane_basis(dir: &Vec3) -> (Vec3, Vec3) {
+    let d = dir.normalize();
+    let t1 = d
+        .cross(&Vec3::x())
+        .try_normalize(1e-6)
+        .unwrap_or_else(|| d.cross(&Vec3::y()).normalize());
+    (t1, d.cross(&t1))
+}
+
+/// The convex hull of `pts` counter-clockwise (Andrew's monotone chain),
+/// without repeated or collinear corners.
+pub(crate) fn convex_hull(mut pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    pts.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-12);
+    let mut hull: Vec<[f64; 2]> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for p in iter {
+            while hull.len() >= start + 2
+                && cross2(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(*p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// `(a − o) × (b − o)`: positive when `o, a, b` turn counter-clockwise.
+pub(crate) fn cross2(o: &[f64; 2], a: &[f64; 2], b: &[f64; 2]) -> f64 {
+    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 }
 
 /// Decide how an impact against an obstacle ends (see the module notes).

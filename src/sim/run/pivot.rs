@@ -3,7 +3,7 @@
 //! `sim::pivot`).
 
 use super::*;
-use crate::sim::pivot::{Pivot, PivotEnd, PivotStart, SupportLine};
+use crate::sim::pivot::{Pivot, PivotEnd, PivotStart, SupportLine, topple};
 
 impl Sim<'_> {
     /// The pivot that an impact of body `a` on obstacle `o` (its part
@@ -26,7 +26,13 @@ impl Sim<'_> {
         // first, of this obstacle's supports only.
         let supports = rest::supports(scene, a, o, post, band);
         let line = SupportLine::of(&supports, d.reach).is_some();
-        if !line && (supports.len() != 1 || friction <= 0.0) {
+        // Lying on a face with the centre of mass beyond the supports'
+        // hull, it topples over the hull's edge it hangs over.
+        let toppling = match (!line).then(|| topple::edge(&supports, &post.x, d.reach)) {
+            Some(Some(edge)) => Some(edge).filter(|e| SupportLine::of(e, d.reach).is_some()),
+            _ => None,
+        };
+        if !line && toppling.is_none() && (supports.len() != 1 || friction <= 0.0) {
             return None;
         }
         let elsewhere = (0..scene.obstacles.len())
@@ -43,6 +49,8 @@ impl Sim<'_> {
             return None;
         }
         let start = PivotStart {
+            supports: toppling.as_deref().unwrap_or(&supports),
+            topple: toppling.is_some(),
             scene,
             dynamics: d,
             gravity: self.traj.gravity,
@@ -50,7 +58,6 @@ impl Sim<'_> {
             obstacle: o,
             part,
             post: *post,
-            supports: &supports,
             friction,
             horizon: self.traj.duration - tc,
             v_rest,
@@ -66,7 +73,9 @@ impl Sim<'_> {
                 .then(|| Pivot::enter_skid(&start))
                 .flatten()
         };
-        if line {
+        if toppling.is_some() {
+            Pivot::enter(&start)
+        } else if line {
             Pivot::enter(&start).or_else(skid)
         } else {
             skid()
