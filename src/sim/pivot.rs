@@ -75,6 +75,9 @@ pub enum PivotEnd {
     /// A skid's slipping ends stop slipping: the hinge takes over if it
     /// holds, else free flight.
     Sticks,
+    /// A skid's end slides off the face of the hull it skids on: free
+    /// flight (the body tips over the face's edge).
+    OffFace,
     /// The simulation ends first.
     Duration,
 }
@@ -125,7 +128,7 @@ enum Motion {
 
 /// How an obstacle meets the space a pivoting body sweeps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Clear {
+pub(super) enum Clear {
     /// Nothing of it comes near: its pair needs no search while pivoting.
     Free,
     /// Parts other than the one turned on come near: searched, without it.
@@ -397,7 +400,19 @@ impl Pivot {
     /// and a part that none separates (or an unbounded one) is
     /// [`Clear::Beside`].
     fn clear(&self, p: &PivotStart<'_>, swept: &[(f64, f64); 3]) -> Clear {
-        let (a, n) = (self.axis, self.normal);
+        Self::clear_of(&self.point, &self.axis, &self.normal, p, swept)
+    }
+
+    /// [`Pivot::clear`] of a line through `point` along `axis` on the
+    /// plane of normal `normal`, on the part `p.part`.
+    pub(super) fn clear_of(
+        point: &Vec3,
+        axis: &Vec3,
+        normal: &Vec3,
+        p: &PivotStart<'_>,
+        swept: &[(f64, f64); 3],
+    ) -> Clear {
+        let (a, n) = (*axis, *normal);
         let b = a.cross(&n);
         let tol = 1e-6 * p.dynamics.reach;
         let o = &p.scene.obstacles[p.obstacle];
@@ -413,7 +428,7 @@ impl Pivot {
                         .collect(),
                     0.0,
                 ),
-                _ if k == self.part => continue,
+                _ if k == p.part => continue,
                 _ => {
                     verdict = Clear::Beside;
                     continue;
@@ -421,7 +436,7 @@ impl Pivot {
             };
             let span = |dir: &Vec3| {
                 pts.iter()
-                    .map(|q| dir.dot(&(q - self.point)))
+                    .map(|q| dir.dot(&(q - point)))
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
                         (lo.min(x - radius), hi.max(x + radius))
                     })
@@ -431,7 +446,7 @@ impl Pivot {
             if clear {
                 continue;
             }
-            if k == self.part {
+            if k == p.part {
                 return Clear::Blocked;
             }
             verdict = Clear::Beside;
@@ -506,9 +521,16 @@ impl Pivot {
         }
     }
 
-    /// Whether the line slides (a skid) rather than staying put.
+    /// Whether the line slides (a skid) rather than staying put (a hinge,
+    /// or a pinned corner).
     pub fn skids(&self) -> bool {
-        matches!(self.motion, Motion::Skid(_))
+        matches!(&self.motion, Motion::Skid(skid) if !skid.pinned)
+    }
+
+    /// Whether the body turns about a corner pinned by friction (a ball
+    /// joint; `pivot::skid`).
+    pub fn pinned(&self) -> bool {
+        matches!(&self.motion, Motion::Skid(skid) if skid.pinned)
     }
 
     /// Whether the hinge stops holding at angle `th`, rate `w`, with the

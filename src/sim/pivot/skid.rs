@@ -16,13 +16,26 @@
 //! n · (a + α × r_j + ω × (ω × r_j)) = 0   (j = 1, 2),
 //! ```
 //!
-//! a 2×2 linear system in `(N₁, N₂)` at every evaluation. The state
+//! a 2×2 linear system in `(N₁, N₂)` at every evaluation.
+//!
+//! A corner that friction holds is *pinned* (a ball joint): it does not
+//! move at all, and the contact force `F` is whatever keeps its whole
+//! acceleration zero,
+//!
+//! ```text
+//! (E/m − [r]× I⁻¹ [r]×) F = −(g + α₀ × r + ω × (ω × r)),   α₀ = −I⁻¹ (ω × I ω),
+//! ```
+//!
+//! a 3×3 system (the corner's mass matrix, symmetric positive definite);
+//! it ends when `F` leaves the friction cone (the corner slips) or its
+//! normal part turns negative. The state
 //! `(x, q, v, ω)` is integrated by fixed-step RK4 (step [`STEP`]), and
 //! after each step put back on the constraint: both ends at their heights
 //! (a turn about the line's in-plane normal, then a shift along `n`), and
 //! their normal speeds zero (a frictionless impulse at the ends, the least
 //! change of kinetic energy; the same map starts the skid as a plastic
-//! impact of the whole line).
+//! impact of the whole line). A pinned corner is put back where it
+//! started, and its whole velocity to zero.
 
 mod start;
 #[cfg(test)]
@@ -53,6 +66,9 @@ pub(super) struct Rates {
     pub dir: [Vec3; 2],
     /// Ends slower than the onset speed that friction holds.
     pub held: [bool; 2],
+    /// A pinned corner's contact force along the plane, N (zero
+    /// otherwise): it slips once this exceeds `μ N`.
+    pub grip: f64,
 }
 
 /// A body sliding on a line of support (see the module notes).
@@ -75,6 +91,10 @@ pub struct Skid {
     friction: f64,
     /// Slip speed below which an end may stick, m/s.
     onset: f64,
+    /// A single corner held in place by friction (a ball joint) at
+    /// `anchor` (world), rather than sliding.
+    pub(super) pinned: bool,
+    anchor: Vec3,
     /// States every [`STEP`] from the start.
     pub(super) table: Vec<BodyState>,
 }
@@ -135,6 +155,9 @@ impl Skid {
     pub(super) fn rates(&self, s: &BodyState) -> Option<Rates> {
         let n = self.normal;
         let (i_w, i_inv, r) = self.frame(s);
+        if self.pinned {
+            return self.pinned_rates(s, &i_w, &i_inv, &r[0]);
+        }
         let mut slip = [0.0; 2];
         let mut dir = [Vec3::zeros(); 2];
         for i in 0..2 {
@@ -181,6 +204,36 @@ impl Skid {
             slip,
             dir,
             held,
+            grip: 0.0,
+        })
+    }
+
+    /// The corner's mass matrix `E/m − [r]× I⁻¹ [r]×` (the velocity an
+    /// impulse at `r` from the centre gives the point there), inverted.
+    fn point_mass(&self, i_inv: &Mat3, r: &Vec3) -> Option<Mat3> {
+        let rx = r.cross_matrix();
+        (Mat3::identity() / self.mass - rx * i_inv * rx).try_inverse()
+    }
+
+    /// [`Skid::rates`] of a pinned corner at `r` from the centre: the
+    /// contact force that keeps the corner's acceleration zero.
+    fn pinned_rates(&self, s: &BodyState, i_w: &Mat3, i_inv: &Mat3, r: &Vec3) -> Option<Rates> {
+        let n = self.normal;
+        let alpha0 = i_inv * (-s.w.cross(&(i_w * s.w)));
+        let rhs = -(self.gravity + alpha0.cross(r) + s.w.cross(&s.w.cross(r)));
+        let f = self.point_mass(i_inv, r)? * rhs;
+        if !f.iter().all(|c| c.is_finite()) {
+            return None;
+        }
+        let normal = n.dot(&f);
+        Some(Rates {
+            a: self.gravity + f / self.mass,
+            alpha: alpha0 + i_inv * r.cross(&f),
+            normal: [normal, 0.0],
+            slip: [0.0; 2],
+            dir: [Vec3::zeros(); 2],
+            held: [false; 2],
+            grip: (f - n * normal).norm(),
         })
     }
 
@@ -270,6 +323,14 @@ impl Skid {
     pub(super) fn project(&self, s: &BodyState) -> Option<BodyState> {
         let n = self.normal;
         let mut s = *s;
+        if self.pinned {
+            let (_, i_inv, r) = self.frame(&s);
+            s.x += self.anchor - (s.x + r[0]);
+            let impulse = -(self.point_mass(&i_inv, &r[0])? * (s.v + s.w.cross(&r[0])));
+            s.v += impulse / self.mass;
+            s.w += i_inv * r[0].cross(&impulse);
+            return Some(s);
+        }
         let (_, _, r) = self.frame(&s);
         let height = |i: usize, r: &Vec3, x: &Vec3| n.dot(&(x + r)) - self.levels[i];
         if self.count == 2 {
@@ -341,6 +402,19 @@ impl Skid {
             return s;
         }
         self.advance(&s, rest).unwrap_or(s)
+    }
+
+    /// The ends in the world at state `s` (one corner: the same twice).
+    pub(super) fn ends_at(&self, s: &BodyState) -> [Vec3; 2] {
+        self.ends.map(|b| s.point(&b))
+    }
+
+    /// How fast the first end slips along the plane, m/s.
+    pub(super) fn contact_slip(&self, s: &BodyState) -> f64 {
+        let n = self.normal;
+        let (_, _, r) = self.frame(s);
+        let u = s.v + s.w.cross(&r[0]);
+        (u - n * n.dot(&u)).norm()
     }
 
     /// How far each end has left its starting height and its normal

@@ -1,9 +1,11 @@
 //! Starting a skid at a Zeno-regime impact and integrating it to its end
 //! (`sim::pivot::skid`).
 
-use super::super::{Motion, Pivot, PivotEnd, PivotStart, STEP as HINGE_STEP, SupportLine, points};
+use super::super::{
+    Clear, Motion, Pivot, PivotEnd, PivotStart, STEP as HINGE_STEP, SupportLine, points,
+};
 use super::{STEP, Skid};
-use crate::geometry::PartKind;
+use crate::geometry::flat_faces;
 use crate::math::Vec3;
 use crate::sim::state::BodyState;
 
@@ -13,28 +15,35 @@ type Point = (usize, Vec3, f64);
 
 impl Pivot {
     /// The skid that an impact in the Zeno regime starts when the body's
-    /// supports on a half-space make one line or are one corner (corners
-    /// of its hulls), with the state it starts from; `None` when friction
-    /// holds an end (see `Skid::rates`; the hinge's case), when the
-    /// support would lift off at once, when a point off it already meets
-    /// the plane, or when the skid would end within a hinge's step. (Skids
-    /// are on half-spaces only: on a face of a hull the line could slide
-    /// off the face's edge.)
+    /// supports on a half-space or a face of a hull make one line or are
+    /// one corner (corners of its hulls), with the state it starts from; a
+    /// single corner that friction holds is pinned instead. `None` when
+    /// friction holds an end of a line (see `Skid::rates`; the hinge's
+    /// case), when the support would lift off at once, when a point off it
+    /// already meets the plane, or when the skid would end within a
+    /// hinge's step. On a face of a hull the skid ends where an end slides
+    /// off the face ([`PivotEnd::OffFace`]).
     pub(crate) fn enter_skid(p: &PivotStart<'_>) -> Option<(Pivot, BodyState)> {
         let (g, d, s) = (p.gravity, p.dynamics, &p.post);
         if g.norm() == 0.0 || d.drag_k.is_some() {
             return None;
         }
-        let part = p.scene.obstacles[p.obstacle].geometry.parts.get(p.part)?;
-        if !matches!(part.kind, PartKind::HalfSpace { .. }) {
-            return None;
-        }
+        let o = &p.scene.obstacles[p.obstacle];
+        let part = o.geometry.parts.get(p.part)?;
         let line = match p.supports {
             [corner] => SupportLine::corner(corner),
             _ => SupportLine::of(p.supports, d.reach)?,
         };
         let n = line.normal;
         let ends_world = [line.point, line.point + line.axis * line.length];
+        // The face skidded on (unbounded on a half-space); the ends start
+        // on it.
+        let face = flat_faces(part, &o.pose, &n, 1.0 - 1e-6)
+            .into_iter()
+            .next()?;
+        if ends_world.iter().any(|e| face.depth(e) < 0.0) {
+            return None;
+        }
         let tol = 1e-6 * d.reach;
         // The ends must be corners of the body (a ball's lowest point is
         // not a fixed body point).
@@ -59,12 +68,29 @@ impl Pivot {
             gravity: g,
             friction: p.friction,
             onset: p.v_rest,
+            pinned: false,
+            anchor: line.point,
             table: Vec::new(),
         };
         // A plastic impact of the whole line: no end moves along `n`.
-        let start = skid.project(s)?;
-        let first = skid.rates(&start)?;
+        let mut start = skid.project(s)?;
         let scale = 1e-9 * d.mass * g.norm();
+        // A corner slower than the onset speed is pinned when the force
+        // that holds it still (after a plastic impact that stops it) is
+        // within the friction cone.
+        if skid.count == 1 && p.friction > 0.0 && skid.contact_slip(&start) < p.v_rest {
+            skid.pinned = true;
+            let held = skid.project(s).and_then(|st| Some((st, skid.rates(&st)?)));
+            match held {
+                Some((st, r))
+                    if r.normal[0] >= -scale && r.grip <= p.friction * r.normal[0] + scale =>
+                {
+                    start = st;
+                }
+                _ => skid.pinned = false,
+            }
+        }
+        let first = skid.rates(&start)?;
         if first.normal.iter().any(|&f| f < -scale) {
             return None;
         }
@@ -109,6 +135,16 @@ impl Pivot {
             [line.axis.dot(&r), b.dot(&r), n.dot(&r)]
         };
         let mut swept = frame(&start.x).map(|c| (c - reach, c + reach));
+        // A sliding skid on a face of a hull keeps clear of the obstacle's
+        // other parts (see below): refused before integrating when they
+        // are near its start already (the box only grows).
+        let on_hull = !face.polygon.is_empty();
+        if on_hull
+            && !skid.pinned
+            && Pivot::clear_of(&line.point, &line.axis, &n, p, &swept) != Clear::Free
+        {
+            return None;
+        }
         skid.table.push(start);
         // Points can come no nearer the plane than `budget` before the
         // lowest is measured again.
@@ -167,7 +203,41 @@ impl Pivot {
                 course.end = PivotEnd::LiftsOff;
                 break;
             }
-            if stuck(&r1) {
+            // An end slides off the face: when within the step, by
+            // bisection on its depth in the face's polygon.
+            let on_face = |s: &BodyState| skid.ends_at(s).iter().all(|e| face.depth(e) >= 0.0);
+            if !on_face(&s1) {
+                let (mut lo, mut hi) = (0.0, h);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    match skid.advance(&s0, mid).and_then(|s| skid.project(&s)) {
+                        Some(s) if on_face(&s) => lo = mid,
+                        _ => hi = mid,
+                    }
+                }
+                skid.table.pop();
+                course.duration = k as f64 * STEP + hi;
+                course.end = PivotEnd::OffFace;
+                break;
+            }
+            // A pinned corner slips when its force leaves the friction
+            // cone: when within the step, by bisection.
+            let slips = |r: &super::Rates| r.grip > p.friction * r.normal[0] + scale;
+            if skid.pinned && slips(&r1) {
+                let (mut lo, mut hi) = (0.0, h);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    match skid.advance(&s0, mid).and_then(|s| skid.rates(&s)) {
+                        Some(r) if !slips(&r) => lo = mid,
+                        _ => hi = mid,
+                    }
+                }
+                skid.table.pop();
+                course.duration = k as f64 * STEP + hi;
+                course.end = PivotEnd::Slips;
+                break;
+            }
+            if !skid.pinned && stuck(&r1) {
                 // When within the step, by bisection (the friction's
                 // direction jumps there: RK4 is exact only before it).
                 let (mut lo, mut hi) = (0.0, h);
@@ -189,6 +259,11 @@ impl Pivot {
                 course.duration = p.horizon;
             }
         }
+        // Between samples the speeds can exceed the sampled ones by at most
+        // a step's acceleration: the bounds the other pairs are searched
+        // with must hold all through the skid.
+        course.v_max += course.accel_max * STEP;
+        course.w_max += course.alpha_max * STEP;
         // The sampled centres' box: points move at most `speed · STEP`
         // between samples.
         let pad = (course.v_max + course.w_max * reach) * STEP;
@@ -216,7 +291,12 @@ impl Pivot {
             alpha_max: course.alpha_max,
             accel_max: course.accel_max,
         };
+        // On a face of a hull with other parts of the obstacle near the
+        // sweep (a coatrack's pole on its base), an end sliding off the face
+        // may meet one of them at that very instant, where the search of
+        // those parts stops at the skid's end: no skid there.
         pv.started(s, p, &swept, 0.0)
+            .filter(|(pv, _)| !(on_hull && pv.beside && !pv.pinned()))
     }
 }
 
