@@ -10,7 +10,12 @@
 //!
 //! It is reported per state quantity (the largest over the bodies), and a
 //! diagnostic fires when any quantity's estimate exceeds [`THRESHOLD`]
-//! relative to its size (at least 1 in its unit).
+//! relative to its size (at least 1 in its unit). Its advice depends on
+//! why ([`Cause`]): with the same contacts in both runs it is the
+//! integration's error and names the scene's own step or tolerance to
+//! change; when the finer run meets different contacts (eggs rattling in
+//! a bucket, a body rocking to rest) the difference is how far the motion
+//! diverges through them, which more accuracy moves but does not remove.
 
 use crate::controls::Controls;
 use crate::scene::{Method, Scene};
@@ -28,6 +33,21 @@ pub struct ErrorEstimate {
     pub per_quantity: [f64; 4],
     /// The same relative to each quantity's size (at least 1).
     pub relative: [f64; 4],
+    /// What the difference comes from, and so what to do about it.
+    pub cause: Cause,
+}
+
+/// Where an estimated error comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Cause {
+    /// The integration itself, at the scene's fixed RK4 step (s).
+    Step { step: f64 },
+    /// The integration itself, at the scene's adaptive tolerance and
+    /// largest step (s).
+    Tolerance { tol: f64, max_step: f64 },
+    /// The finer run meets other contacts from `t` (s) on: `coarse` and
+    /// `fine` events in all.
+    Contacts { t: f64, coarse: usize, fine: usize },
 }
 
 /// The quantities' names, in order.
@@ -95,9 +115,27 @@ pub fn error_estimate(
             }
         }
     }
+    let (a, b) = (traj.signature(), refined.signature());
+    let cause = match a.iter().zip(&b).position(|(x, y)| x != y) {
+        Some(i) => Some(i),
+        None => (a.len() != b.len()).then(|| a.len().min(b.len())),
+    }
+    .map(|i| {
+        let at = |tr: &Trajectory| tr.events.get(i).map_or(f64::INFINITY, |e| e.t);
+        Cause::Contacts {
+            t: at(traj).min(at(&refined)),
+            coarse: a.len(),
+            fine: b.len(),
+        }
+    })
+    .unwrap_or(match scene.accuracy.method {
+        Method::Rk4 { step } => Cause::Step { step },
+        Method::Adaptive { tol, max_step } => Cause::Tolerance { tol, max_step },
+    });
     Ok(ErrorEstimate {
         per_quantity,
         relative,
+        cause,
     })
 }
 
@@ -127,8 +165,19 @@ impl ErrorEstimate {
             .iter()
             .copied()
             .max_by(|&a, &b| self.relative[a].total_cmp(&self.relative[b]))?;
+        let advice = match self.cause {
+            Cause::Step { step } => {
+                format!("use a smaller step than {step:e} s or method = \"adaptive\"")
+            }
+            Cause::Tolerance { tol, max_step } => {
+                format!("use a tighter tol than {tol:e} or a smaller max_step than {max_step:e} s")
+            }
+            Cause::Contacts { t, coarse, fine } => format!(
+                "at twice the accuracy the contacts differ from t = {t:.3} s ({coarse} events against {fine}): the motion diverges through its contacts, which more accuracy moves but does not remove"
+            ),
+        };
         Some(format!(
-            "estimated integration error {:.1e} {} in {} ({:.0e} relative, above {THRESHOLD:.0e}): use a smaller step or method = \"adaptive\" with a tighter tol",
+            "estimated integration error {:.1e} {} in {} ({:.0e} relative, above {THRESHOLD:.0e}): {advice}",
             self.per_quantity[worst], UNITS[worst], QUANTITIES[worst], self.relative[worst]
         ))
     }
@@ -148,6 +197,63 @@ impl ErrorEstimate {
             "method".into(),
             serde_json::Value::String("step halving".into()),
         );
+        let cause = match self.cause {
+            Cause::Step { .. } => "step",
+            Cause::Tolerance { .. } => "tolerance",
+            Cause::Contacts { t, .. } => {
+                m.insert("contacts_differ_from".into(), crate::report::num(t));
+                "contacts"
+            }
+        };
+        m.insert("cause".into(), serde_json::Value::String(cause.into()));
         serde_json::Value::Object(m)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn over(cause: Cause) -> ErrorEstimate {
+        ErrorEstimate {
+            per_quantity: [0.0, 0.0, 0.0, 0.4],
+            relative: [0.0, 0.0, 0.0, 0.04],
+            cause,
+        }
+    }
+
+    #[test]
+    fn the_advice_names_the_scenes_own_accuracy_or_the_contacts() {
+        let step = over(Cause::Step { step: 1e-3 }).diagnostic().unwrap();
+        assert!(
+            step.ends_with("use a smaller step than 1e-3 s or method = \"adaptive\""),
+            "{step}"
+        );
+        let tol = over(Cause::Tolerance {
+            tol: 1e-9,
+            max_step: 0.05,
+        })
+        .diagnostic()
+        .unwrap();
+        assert!(
+            tol.ends_with("use a tighter tol than 1e-9 or a smaller max_step than 5e-2 s"),
+            "{tol}"
+        );
+        let contacts = over(Cause::Contacts {
+            t: 1.2834,
+            coarse: 201,
+            fine: 203,
+        })
+        .diagnostic()
+        .unwrap();
+        assert!(
+            contacts.contains("the contacts differ from t = 1.283 s (201 events against 203)")
+                && !contacts.contains("tighter"),
+            "{contacts}"
+        );
+        // Below the threshold there is nothing to say.
+        let mut fine = over(Cause::Step { step: 1e-3 });
+        fine.relative[3] = 1e-6;
+        assert!(fine.diagnostic().is_none());
     }
 }

@@ -145,13 +145,14 @@ fn a_fast_spin_at_the_default_step_is_reported_as_inaccurate() {
         "{out}"
     );
     assert!(
-        out.contains("warning: estimated integration error 7.5e-2 rad/s in angular velocity (2e-4 relative, above 1e-4): use a smaller step or method = \"adaptive\" with a tighter tol"),
+        out.contains("warning: estimated integration error 7.5e-2 rad/s in angular velocity (2e-4 relative, above 1e-4): use a smaller step than 1e-3 s or method = \"adaptive\""),
         "{out}"
     );
     let (_, out) = check(&["--json"], file);
     let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
     assert_eq!(v["integration_error"]["exceeds"], true);
     assert_eq!(v["integration_error"]["method"], "step halving");
+    assert_eq!(v["integration_error"]["cause"], "step");
     assert!(
         v["diagnostics"][0]
             .as_str()
