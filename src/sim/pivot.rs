@@ -41,12 +41,15 @@
 //! and end times jump with the controls and the hinge's tangent is not
 //! propagated.
 //!
-//! When friction cannot hold the line still (the hinge slips at once) on
-//! a half-space, the impact starts a skid
-//! instead ([`Pivot::enter_skid`], `pivot::skid`): the line's ends slide on
-//! the plane under Coulomb friction while the body turns freely; it ends
-//! like a hinge, or when the ends stop slipping (the hinge takes over).
-//! A body on a single slipping corner skids on that corner.
+//! When friction cannot hold the line still (the hinge slips at once), the
+//! impact starts a skid instead ([`Pivot::enter_skid`], `pivot::skid`): the
+//! line's ends slide on the plane under Coulomb friction while the body
+//! turns freely; it ends like a hinge, when the ends stop slipping (the
+//! hinge takes over), or, on a face of a hull, when an end slides off the
+//! face. A body on a single slipping corner skids on that corner, and one
+//! on a corner that friction holds turns about it, pinned (a ball joint).
+//! A body lying on a face with its centre of mass beyond its supports
+//! topples over their hull's edge as a hinge (`pivot::topple`).
 
 mod skid;
 pub(crate) mod topple;
