@@ -203,54 +203,35 @@ impl Pivot {
                 course.end = PivotEnd::LiftsOff;
                 break;
             }
-            // An end slides off the face: when within the step, by
-            // bisection on its depth in the face's polygon.
+            // Ends within the step, bisected there: an end sliding off the
+            // face (its depth in the face's polygon), a pinned corner
+            // slipping (its force leaving the friction cone), a sliding end
+            // sticking (the friction's direction jumps there: RK4 is exact
+            // only before it).
             let on_face = |s: &BodyState| skid.ends_at(s).iter().all(|e| face.depth(e) >= 0.0);
-            if !on_face(&s1) {
-                let (mut lo, mut hi) = (0.0, h);
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    match skid.advance(&s0, mid).and_then(|s| skid.project(&s)) {
-                        Some(s) if on_face(&s) => lo = mid,
-                        _ => hi = mid,
-                    }
-                }
-                skid.table.pop();
-                course.duration = k as f64 * STEP + hi;
-                course.end = PivotEnd::OffFace;
-                break;
-            }
-            // A pinned corner slips when its force leaves the friction
-            // cone: when within the step, by bisection.
             let slips = |r: &super::Rates| r.grip > p.friction * r.normal[0] + scale;
-            if skid.pinned && slips(&r1) {
-                let (mut lo, mut hi) = (0.0, h);
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    match skid.advance(&s0, mid).and_then(|s| skid.rates(&s)) {
-                        Some(r) if !slips(&r) => lo = mid,
-                        _ => hi = mid,
-                    }
-                }
+            let rates_at = |tau: f64| skid.advance(&s0, tau).and_then(|s| skid.rates(&s));
+            let ended = if !on_face(&s1) {
+                let off = |tau: f64| {
+                    !skid
+                        .advance(&s0, tau)
+                        .and_then(|s| skid.project(&s))
+                        .is_some_and(|s| on_face(&s))
+                };
+                Some((PivotEnd::OffFace, bisect(h, off)))
+            } else if skid.pinned && slips(&r1) {
+                let slipped = |tau: f64| !rates_at(tau).is_some_and(|r| !slips(&r));
+                Some((PivotEnd::Slips, bisect(h, slipped)))
+            } else if !skid.pinned && stuck(&r1) {
+                let stopped = |tau: f64| !rates_at(tau).is_some_and(|r| !stuck(&r));
+                Some((PivotEnd::Sticks, bisect(h, stopped)))
+            } else {
+                None
+            };
+            if let Some((end, tau)) = ended {
                 skid.table.pop();
-                course.duration = k as f64 * STEP + hi;
-                course.end = PivotEnd::Slips;
-                break;
-            }
-            if !skid.pinned && stuck(&r1) {
-                // When within the step, by bisection (the friction's
-                // direction jumps there: RK4 is exact only before it).
-                let (mut lo, mut hi) = (0.0, h);
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    match skid.advance(&s0, mid).and_then(|s| skid.rates(&s)) {
-                        Some(r) if !stuck(&r) => lo = mid,
-                        _ => hi = mid,
-                    }
-                }
-                skid.table.pop();
-                course.duration = k as f64 * STEP + hi;
-                course.end = PivotEnd::Sticks;
+                course.duration = k as f64 * STEP + tau;
+                course.end = end;
                 break;
             }
             prev_dir = r1.dir;
@@ -298,6 +279,21 @@ impl Pivot {
         pv.started(s, p, &swept, 0.0)
             .filter(|(pv, _)| !(on_hull && pv.beside && !pv.pinned()))
     }
+}
+
+/// The first time in `(0, h]` at which `ended` holds (it does not at 0
+/// and does at `h`), by bisection to round-off.
+fn bisect(h: f64, ended: impl Fn(f64) -> bool) -> f64 {
+    let (mut lo, mut hi) = (0.0, h);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if ended(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
 }
 
 /// How long a skid lasts, how it ends, and its bounds (see [`Pivot`]).
