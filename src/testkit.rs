@@ -30,6 +30,28 @@ pub fn scene(duration: f64) -> Scene {
     }
 }
 
+/// An empty scene with gravity, collisions, friction and gyroscopic
+/// terms, over the ground plane `z = 0` with friction coefficient `mu`.
+pub fn on_ground(duration: f64, mu: f64) -> Scene {
+    let mut s = scene(duration);
+    s.effects.friction = true;
+    s.effects.gyroscopic = true;
+    let mut floor = ground();
+    floor.friction = mu;
+    s.obstacles.push(floor);
+    s
+}
+
+/// Mechanical energy of `body` at `t` (J): kinetic (the inertia turned
+/// into the world frame) plus gravity's potential.
+pub fn energy(tr: &crate::sim::Trajectory, body: usize, t: f64) -> f64 {
+    let d = &tr.dynamics[body];
+    let s = tr.state(body, t, crate::sim::Side::Post);
+    let r = *s.q.to_rotation_matrix().matrix();
+    let ic = r * d.inertia * r.transpose();
+    0.5 * (d.mass * s.v.norm_squared() + s.w.dot(&(ic * s.w))) - d.mass * tr.gravity.dot(&s.x)
+}
+
 /// A body with the given geometry and density 1000 kg/m³, inertia from the shape.
 pub fn body(name: &str, geometry: Geometry, position: Vec3) -> Body {
     let props = geometry

@@ -12,12 +12,7 @@ use nudge::testkit;
 /// A square pyramid (10 cm base, 15 cm high) stood on its apex, tilted
 /// 0.05 rad about x, set down 1 µm above a floor with friction 1.
 fn pyramid() -> Scene {
-    let mut s = testkit::scene(1.0);
-    s.effects.friction = true;
-    s.effects.gyroscopic = true;
-    let mut floor = testkit::ground();
-    floor.friction = 1.0;
-    s.obstacles.push(floor);
+    let mut s = testkit::on_ground(1.0, 1.0);
     let corners = [
         Vec3::new(0.05, 0.05, 0.0),
         Vec3::new(-0.05, 0.05, 0.0),
@@ -46,14 +41,6 @@ fn apex(s: &Scene) -> Vec3 {
         .unwrap()
 }
 
-fn energy(tr: &Trajectory, t: f64) -> f64 {
-    let d = &tr.dynamics[0];
-    let s = tr.state(0, t, Side::Post);
-    let r = *s.q.to_rotation_matrix().matrix();
-    let ic = r * d.inertia * r.transpose();
-    0.5 * (d.mass * s.v.norm_squared() + s.w.dot(&(ic * s.w))) - d.mass * tr.gravity.dot(&s.x)
-}
-
 /// From its first contact the pyramid turns about its pinned apex: the
 /// apex stays where it landed, at rest, the joint does no work, and the
 /// fall is the inverted compound pendulum's — it reaches its final tilt
@@ -77,7 +64,7 @@ fn a_pyramid_on_its_apex_falls_about_it_as_a_pendulum_until_it_slips() {
     let anchor = seg.start.point(&tip);
     let d = &tr.dynamics[0];
     let scale = d.mass * 9.81 * 0.15;
-    let e0 = energy(&tr, t0);
+    let e0 = testkit::energy(&tr, 0, t0);
     assert!(
         seg.start.point_velocity(&tip).norm() < 1e-12,
         "the apex is not stopped"
@@ -94,7 +81,7 @@ fn a_pyramid_on_its_apex_falls_about_it_as_a_pendulum_until_it_slips() {
             off < 1e-12,
             "the fall leaves its plane ({off:.2e} rad/s) at t = {t}"
         );
-        let de = (energy(&tr, t) - e0).abs() / scale;
+        let de = (testkit::energy(&tr, 0, t) - e0).abs() / scale;
         assert!(de < 1e-9, "energy changed by {de:.2e} of m g h at t = {t}");
     }
     // The pendulum about the apex: θ̈ = (m g L / I) sin θ from the vertical.

@@ -1,6 +1,7 @@
 //! Pivoting on an edge instead of chattering on it (docs/design.md §4,
 //! `sim::pivot`): a body standing or rocking on an edge turns about it as a
-//! hinge and lands on its face in a few events.
+//! hinge and lands on its face in a few events; one whose edge slips skids,
+//! on a half-space or a face of a hull.
 
 use nudge::controls::Controls;
 use nudge::geometry::Geometry;
@@ -13,24 +14,10 @@ fn run(s: &Scene, opts: &SimOptions) -> Trajectory {
     simulate(s, &Controls::new(s), opts).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Mechanical energy of body 0 (J): kinetic plus gravity's potential.
-fn energy(tr: &Trajectory, t: f64) -> f64 {
-    let d = &tr.dynamics[0];
-    let s = tr.state(0, t, Side::Post);
-    let r = *s.q.to_rotation_matrix().matrix();
-    let ic = r * d.inertia * r.transpose();
-    0.5 * (d.mass * s.v.norm_squared() + s.w.dot(&(ic * s.w))) - d.mass * tr.gravity.dot(&s.x)
-}
-
 /// A 30 × 20 × 10 cm box tipped 0.35 rad about x onto its long edge,
 /// dropped 0.1 mm onto a grippy floor (friction 1, restitution 0.2).
 fn tipped_box() -> Scene {
-    let mut s = testkit::scene(2.0);
-    s.effects.friction = true;
-    s.effects.gyroscopic = true;
-    let mut floor = testkit::ground();
-    floor.friction = 1.0;
-    s.obstacles.push(floor);
+    let mut s = testkit::on_ground(2.0, 1.0);
     let half = Vec3::new(0.15, 0.1, 0.05);
     let tilt = 0.35_f64;
     // Lowest edge: the corner line at y = +0.1, z = −0.05 in the body frame.
@@ -106,7 +93,7 @@ fn energy_never_rises_while_pivoting() {
     for (k, seg) in segs.iter().enumerate() {
         let Some(pv) = &seg.pivot else { continue };
         let t0 = seg.t0;
-        let e0 = energy(&tr, t0);
+        let e0 = testkit::energy(&tr, 0, t0);
         let scale = tr.dynamics[0].mass * 9.81 * 0.1;
         for i in 1..=200 {
             let t = t0 + pv.duration * f64::from(i) / 200.0;
@@ -115,7 +102,7 @@ fn energy_never_rises_while_pivoting() {
             } else {
                 t
             };
-            let e = energy(&tr, t);
+            let e = testkit::energy(&tr, 0, t);
             assert!(
                 e <= e0 + 1e-9 * scale,
                 "energy rose by {:.3e} J at t = {t} in the pivot from {t0}",
@@ -314,11 +301,11 @@ fn a_box_tipped_onto_an_edge_of_a_slippery_floor_skids_and_lies_flat() {
     assert!(!skids.is_empty(), "no skid: {:?}", tr.signature());
     let scale = tr.dynamics[0].mass * 9.81 * 0.1;
     for (t0, pv) in &skids {
-        let e0 = energy(&tr, *t0);
+        let e0 = testkit::energy(&tr, 0, *t0);
         let mut last = e0;
         for i in 1..=100 {
             let t = t0 + pv.duration * f64::from(i) / 100.0;
-            let e = energy(&tr, t.min(t0 + pv.duration - 1e-12));
+            let e = testkit::energy(&tr, 0, t.min(t0 + pv.duration - 1e-12));
             assert!(
                 e <= last + 1e-9 * scale,
                 "energy rose by {:.3e} J at t = {t} in the skid from {t0}",
@@ -365,4 +352,92 @@ fn a_pivot_never_lands_beyond_the_face_it_turns_on() {
             e.key
         );
     }
+}
+
+/// The tipped box on a slippery floor (friction 0.05) sliding along x at
+/// 0.3 m/s; with `slab`, on a slab (a hull) instead, its top face the
+/// floor's plane, reaching that far along +x from the origin and 2 m every
+/// other way.
+fn skidding_box(slab: Option<f64>) -> Scene {
+    let mut s = tipped_box();
+    s.duration = 1.0;
+    s.obstacles[0].friction = 0.05;
+    s.bodies[0].friction = 0.05;
+    s.bodies[0].velocity = Vec3::new(0.3, 0.0, 0.0);
+    if let Some(edge) = slab {
+        let half = Vec3::new(0.5 * (edge + 2.0), 2.0, 0.1);
+        let centre = Vec3::new(edge - half.x, 0.0, -half.z);
+        let mut o = testkit::obstacle("slab", Geometry::cuboid(half).unwrap(), centre);
+        o.friction = 0.05;
+        s.obstacles = vec![o];
+    }
+    s
+}
+
+fn skids(tr: &Trajectory) -> Vec<(f64, &nudge::sim::Pivot)> {
+    pivots(tr).into_iter().filter(|(_, p)| p.skids()).collect()
+}
+
+/// On a slab far wider than the box's travel the box skids exactly as on
+/// the floor (`sim::pivot::skid` on a face of a hull): the same events at
+/// the same times, and the same end state to round-off.
+#[test]
+fn a_skid_on_a_wide_face_is_the_skid_on_a_half_space() {
+    let opts = SimOptions::without_tangents();
+    let floor = run(&skidding_box(None), &opts);
+    let slab = run(&skidding_box(Some(2.0)), &opts);
+    assert!(
+        !skids(&floor).is_empty(),
+        "no skid on the floor: {:?}",
+        floor.signature()
+    );
+    assert_eq!(
+        skids(&floor).len(),
+        skids(&slab).len(),
+        "{:?}",
+        slab.signature()
+    );
+    assert_eq!(floor.events.len(), slab.events.len());
+    for (a, b) in floor.events.iter().zip(&slab.events) {
+        assert!(
+            (a.t - b.t).abs() < 1e-12,
+            "event at {} on the floor, {} on the slab",
+            a.t,
+            b.t
+        );
+    }
+    let (a, b) = (
+        floor.state(0, 1.0, Side::Post),
+        slab.state(0, 1.0, Side::Post),
+    );
+    assert!((a.x - b.x).norm() < 1e-12, "ends {:?} apart", a.x - b.x);
+}
+
+/// With the slab's edge 2 cm ahead of the skidding line's front end, the
+/// skid ends where that end slides off the face, on the edge.
+#[test]
+fn a_skid_ends_where_its_end_slides_off_the_face() {
+    let opts = SimOptions::without_tangents();
+    let floor = run(&skidding_box(None), &opts);
+    let (_, pv) = skids(&floor)[0];
+    // The skid's line runs along x: its front end is the farthest.
+    let front = pv.point.x.max(pv.point.x + pv.axis.x * pv.length);
+    let edge = front + 0.02;
+    let tr = run(&skidding_box(Some(edge)), &opts);
+    let (t1, off) = *skids(&tr)
+        .first()
+        .unwrap_or_else(|| panic!("no skid: {:?}", tr.signature()));
+    assert_eq!(off.end, PivotEnd::OffFace, "{:?}", tr.signature());
+    // The line's ends, followed in the body from the skid's start.
+    let s1 = tr.state(0, t1, Side::Post);
+    let ends = [off.point, off.point + off.axis * off.length].map(|e| s1.q.inverse() * (e - s1.x));
+    let end = tr.state(0, t1 + off.duration, Side::Pre);
+    let lead = ends
+        .iter()
+        .map(|v| end.point(v).x)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        (lead - edge).abs() < 1e-9,
+        "the front end at x = {lead}, the edge at {edge}"
+    );
 }

@@ -20,12 +20,7 @@ fn run(s: &Scene) -> Trajectory {
 /// foot's +x edge. Set down flat, 1 µm above a grippy floor (friction 1,
 /// restitution 0.2), turning at `spin` rad/s about y.
 fn overhanging(spin: f64) -> Scene {
-    let mut s = testkit::scene(1.0);
-    s.effects.friction = true;
-    s.effects.gyroscopic = true;
-    let mut floor = testkit::ground();
-    floor.friction = 1.0;
-    s.obstacles.push(floor);
+    let mut s = testkit::on_ground(1.0, 1.0);
     let foot = Geometry::cuboid(Vec3::new(0.05, 0.05, 0.02)).unwrap();
     let arm = Geometry::cuboid(Vec3::new(0.2, 0.05, 0.02)).unwrap();
     let g = Geometry::compound(vec![
