@@ -6,7 +6,7 @@ use nudge::controls::Controls;
 use nudge::geometry::Geometry;
 use nudge::math::Vec3;
 use nudge::scene::Scene;
-use nudge::sim::{PivotEnd, Side, SimOptions, Trajectory, simulate};
+use nudge::sim::{PivotEnd, Side, SimOptions, simulate};
 use nudge::testkit;
 
 /// A square pyramid (10 cm base, 15 cm high) stood on its apex, tilted

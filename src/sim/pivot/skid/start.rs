@@ -213,17 +213,16 @@ impl Pivot {
             let rates_at = |tau: f64| skid.advance(&s0, tau).and_then(|s| skid.rates(&s));
             let ended = if !on_face(&s1) {
                 let off = |tau: f64| {
-                    !skid
-                        .advance(&s0, tau)
+                    skid.advance(&s0, tau)
                         .and_then(|s| skid.project(&s))
-                        .is_some_and(|s| on_face(&s))
+                        .is_none_or(|s| !on_face(&s))
                 };
                 Some((PivotEnd::OffFace, bisect(h, off)))
             } else if skid.pinned && slips(&r1) {
-                let slipped = |tau: f64| !rates_at(tau).is_some_and(|r| !slips(&r));
+                let slipped = |tau: f64| rates_at(tau).is_none_or(|r| slips(&r));
                 Some((PivotEnd::Slips, bisect(h, slipped)))
             } else if !skid.pinned && stuck(&r1) {
-                let stopped = |tau: f64| !rates_at(tau).is_some_and(|r| !stuck(&r));
+                let stopped = |tau: f64| rates_at(tau).is_none_or(|r| stuck(&r));
                 Some((PivotEnd::Sticks, bisect(h, stopped)))
             } else {
                 None
