@@ -16,6 +16,17 @@ pub use so3::{
     right_jacobian_inv, right_jacobian_inv_mul, rotation_matrix, skew,
 };
 
+/// Two unit vectors spanning the plane normal to the unit vector `n`, with
+/// `n` a right-handed frame (`t1 × t2 = n`): friction-pyramid edges, a
+/// support polygon seen along its normal.
+pub fn plane_basis(n: &Vec3) -> (Vec3, Vec3) {
+    let t1 = n
+        .cross(&Vec3::x())
+        .try_normalize(1e-6)
+        .unwrap_or_else(|| n.cross(&Vec3::y()).normalize());
+    (t1, n.cross(&t1))
+}
+
 /// True when every entry of the slice is finite (neither NaN nor ±∞).
 pub fn all_finite(values: &[f64]) -> bool {
     values.iter().all(|v| v.is_finite())

@@ -30,8 +30,8 @@
 //! not a prediction of the true distribution; where they are determinate
 //! (a ball in a hollow) they are the forces.
 
-use crate::math::Vec3;
 use crate::math::nnls::{self, NotConverged};
+use crate::math::{Vec3, plane_basis};
 use nalgebra::{DMatrix, DVector};
 
 /// A body of an island.
@@ -70,11 +70,7 @@ fn edges(c: &IslandContact) -> Vec<Vec3> {
     if c.friction <= 0.0 {
         return vec![n];
     }
-    let t1 = n
-        .cross(&Vec3::x())
-        .try_normalize(1e-6)
-        .unwrap_or_else(|| n.cross(&Vec3::y()).normalize());
-    let t2 = n.cross(&t1);
+    let (t1, t2) = plane_basis(&n);
     [t1, -t1, t2, -t2]
         .iter()
         .map(|t| n + t * c.friction)

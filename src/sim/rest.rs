@@ -76,7 +76,7 @@ use super::roll::Roll;
 use super::state::BodyState;
 use super::statics::{self, Support};
 use crate::geometry::{NearPoint, PartKind, near_points};
-use crate::math::{Mat3, Vec3};
+use crate::math::{Mat3, Vec3, plane_basis};
 use crate::scene::Scene;
 pub use face::FaceSlide;
 
@@ -224,7 +224,7 @@ pub(crate) fn over_hull(points: &[Vec3], com: &Vec3, dir: &Vec3, tol: f64) -> (b
     if points.is_empty() {
         return (false, false);
     }
-    let (t1, t2) = plane_basis(dir);
+    let (t1, t2) = plane_basis(&dir.normalize());
     let flat = |p: &Vec3| [t1.dot(&(p - com)), t2.dot(&(p - com))];
     let pts: Vec<[f64; 2]> = points.iter().map(flat).collect();
     let hull = convex_hull(pts.clone());
@@ -259,17 +259,6 @@ pub(crate) fn over_hull(points: &[Vec3], com: &Vec3, dir: &Vec3, tol: f64) -> (b
         }
     };
     (inside, polygon)
-}
-
-/// Two unit vectors spanning the plane normal to `dir`, with `dir` a
-/// right-handed frame (`t1 × t2 = dir`, normalised).
-pub(crate) fn plane_basis(dir: &Vec3) -> (Vec3, Vec3) {
-    let d = dir.normalize();
-    let t1 = d
-        .cross(&Vec3::x())
-        .try_normalize(1e-6)
-        .unwrap_or_else(|| d.cross(&Vec3::y()).normalize());
-    (t1, d.cross(&t1))
 }
 
 /// The convex hull of `pts` counter-clockwise (Andrew's monotone chain),

@@ -12,7 +12,7 @@
 //! over the support polygon"; with it, a body wedged between a peg and a
 //! pole, or leaning on a wall, is held as it would be.
 
-use crate::math::{Vec3, nnls::nnls};
+use crate::math::{Vec3, nnls::nnls, plane_basis};
 use nalgebra::{DMatrix, DVector};
 
 /// One supporting contact.
@@ -40,11 +40,7 @@ pub(crate) fn held(supports: &[Support], com: &Vec3, down: &Vec3, reach: f64) ->
     let mut cols: Vec<[f64; 6]> = Vec::new();
     for s in supports {
         let n = s.normal;
-        let t1 = n
-            .cross(&Vec3::x())
-            .try_normalize(1e-6)
-            .unwrap_or_else(|| n.cross(&Vec3::y()).normalize());
-        let t2 = n.cross(&t1);
+        let (t1, t2) = plane_basis(&n);
         let r = (s.point - com) / lever;
         let edges: Vec<Vec3> = if s.friction > 0.0 {
             [t1, -t1, t2, -t2]

@@ -153,7 +153,6 @@ impl Skid {
     /// slip), and is *held* when friction along that direction would
     /// reverse its acceleration, or nothing pulls it along the plane.
     pub(super) fn rates(&self, s: &BodyState) -> Option<Rates> {
-        let n = self.normal;
         let (i_w, i_inv, r) = self.frame(s);
         if self.pinned {
             return self.pinned_rates(s, &i_w, &i_inv, &r[0]);
@@ -161,8 +160,7 @@ impl Skid {
         let mut slip = [0.0; 2];
         let mut dir = [Vec3::zeros(); 2];
         for i in 0..2 {
-            let u = s.v + s.w.cross(&r[i]);
-            let t = u - n * n.dot(&u);
+            let t = self.slip_velocity(s, &r[i]);
             slip[i] = t.norm();
             if slip[i] > 0.0 {
                 dir[i] = t / slip[i];
@@ -409,12 +407,18 @@ impl Skid {
         self.ends.map(|b| s.point(&b))
     }
 
+    /// The velocity along the plane of the body point at `r` from the
+    /// centre (world), m/s.
+    fn slip_velocity(&self, s: &BodyState, r: &Vec3) -> Vec3 {
+        let n = self.normal;
+        let u = s.v + s.w.cross(r);
+        u - n * n.dot(&u)
+    }
+
     /// How fast the first end slips along the plane, m/s.
     pub(super) fn contact_slip(&self, s: &BodyState) -> f64 {
-        let n = self.normal;
         let (_, _, r) = self.frame(s);
-        let u = s.v + s.w.cross(&r[0]);
-        (u - n * n.dot(&u)).norm()
+        self.slip_velocity(s, &r[0]).norm()
     }
 
     /// How far each end has left its starting height and its normal

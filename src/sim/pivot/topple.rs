@@ -14,8 +14,8 @@
 //! corners.
 
 use crate::geometry::NearPoint;
-use crate::math::Vec3;
-use crate::sim::rest::{convex_hull, cross2, plane_basis};
+use crate::math::{Vec3, plane_basis};
+use crate::sim::rest::{convex_hull, cross2};
 
 /// The supports on the edge of their hull (seen along their common normal)
 /// that the centre of mass `com` lies farthest beyond, when it lies beyond
