@@ -250,6 +250,7 @@ pub fn simulate(
                     skips: 0,
                     skipped_since: 0.0,
                     push: false,
+                    pushable: false,
                 });
             }
         }
@@ -262,6 +263,7 @@ pub fn simulate(
                 skips: 0,
                 skipped_since: 0.0,
                 push: false,
+                pushable: false,
             });
         }
     }
@@ -330,6 +332,9 @@ pub fn simulate(
             arm: (10.0 * root).max(1e-9),
         },
     };
+    for k in 0..sim.pairs.len() {
+        sim.pairs[k].pushable = sim.pair_floor(&sim.pairs[k]) > 0.0;
+    }
     sim.run()?;
     Ok(sim.traj)
 }
@@ -719,9 +724,10 @@ impl Sim<'_> {
         for k in candidates {
             let p = &self.pairs[k];
             let limit = best.as_ref().map_or(t1, |b| b.0);
-            // A search that crawls to a stall at `t` inside the window: a
-            // sustained contact between two bodies is pushed apart there
-            // (run/sustained.rs); any other stall stops the run.
+            // A search that crawls to a stall at `t` inside the window (or,
+            // against an obstacle, creeps there): the sustained contact is
+            // pushed apart (run/sustained.rs); without a micro-collision
+            // floor the stall stops the run.
             let stall = |t| self.stall(&world, p, t);
             // An armed pair's search runs to the window's end and stands
             // while its motions do, so another pair's event does not make

@@ -260,3 +260,30 @@ fn regression_crossing_edges_separating_slowly_made_the_event_search_creep() {
 // ---------------------------------------------------------------------------
 // Grazing contact.
 // ---------------------------------------------------------------------------
+
+/// A body's search against an obstacle could creep in a sustained contact
+/// until it gave up: a sampled scissors-bounce world (the scissors spinning
+/// at 60 rad/s just after striking the coatrack's pole, a handle on the
+/// base 6e-13 m outside the skin, its witness separating at 1.2e-5 m/s)
+/// stepped 4e-12 s at a time for 10,000 steps and the run failed with
+/// `EventSearchStalled` after 73 ms. Now a search that creeps inside the
+/// contact band stops after a few dozen steps and the contact is pushed as
+/// a sustained contact between two bodies is; the scissors settle.
+#[test]
+fn regression_a_body_creeping_against_an_obstacle_stalled_the_event_search() {
+    let s = load("scissors-creep.toml");
+    let tr = run_ok(&s);
+    let coatrack = nudge::sim::Party::Obstacle(1);
+    let after: Vec<_> = tr
+        .events
+        .iter()
+        .filter(|e| e.b == coatrack && (1.3833..1.3834).contains(&e.t))
+        .collect();
+    assert!(
+        !after.is_empty(),
+        "the scissors go on striking the coatrack where the search stalled"
+    );
+    let queries = tr.counters.collisions.get();
+    assert!(queries < 5_000, "{queries} contact queries");
+    assert!(lowest_over_run(&s, &tr, 600) > -SKIN);
+}

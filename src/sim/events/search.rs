@@ -2,7 +2,7 @@
 //! conservative advancement with Newton probes, and the safeguarded
 //! Newton–bisection refinement of the root.
 
-use super::{Pair, Tolerances, World};
+use super::{CREEP_STEPS, Pair, Tolerances, World};
 use crate::geometry::{Contact, PartContacts, Placement};
 use crate::math::Vec3;
 use crate::sim::state::{BodyState, Side};
@@ -152,7 +152,9 @@ impl World<'_, '_> {
     ///
     /// # Errors
     /// The time reached when the search ran out of iterations without
-    /// deciding (see [`super::SimError::EventSearchStalled`]).
+    /// deciding (see [`super::SimError::EventSearchStalled`]), or, for a
+    /// pushable pair with an obstacle, crept [`CREEP_STEPS`] steps in a row
+    /// inside the contact band without the contact approaching.
     pub fn find_impact(
         &self,
         pair: &Pair,
@@ -172,6 +174,8 @@ impl World<'_, '_> {
         // Newton from above never brackets it, while the certified steps'
         // quadratic bound converges as fast. Probe again only near it.
         let mut short = false;
+        // Steps in a row inside the contact band, not approaching.
+        let mut creep = 0;
         for _ in 0..10_000 {
             let sa = self.state(Party::Body(pair.a), t);
             let sb = self.state(pair.b, t);
@@ -277,6 +281,14 @@ impl World<'_, '_> {
             t += tau.max(f64::EPSILON * t.abs().max(1.0));
             if t > t1 {
                 return Ok(None);
+            }
+            creep = if e <= hit && rate >= 0.0 {
+                creep + 1
+            } else {
+                0
+            };
+            if pair.pushable && matches!(pair.b, Party::Obstacle(_)) && creep >= CREEP_STEPS {
+                return Err(t);
             }
         }
         // No progress in the iteration budget: report it rather than let
