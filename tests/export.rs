@@ -293,9 +293,11 @@ fn a_frame_rate_out_of_range_is_refused() {
 /// as a glTF file that reads back, and says where.
 #[test]
 fn the_editor_exports_what_it_shows() {
-    let dir = std::env::temp_dir().join(format!("nudge-export-editor-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let out = dir.join("edited ball.glb");
+    let dir = tempfile::Builder::new()
+        .prefix("nudge-export-editor-")
+        .tempdir()
+        .expect("temp dir");
+    let out = dir.path().join("edited ball.glb");
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bounce.toml");
     let mut editor = nudge::edit::Editor::open(&path).expect("opens");
     let script = format!("]]]]] lll :export {}<Enter>", out.display());

@@ -205,8 +205,11 @@ fn a_mesh_over_the_triangle_budget_is_refused() {
 fn saving_elsewhere_needs_the_meshes_beside_the_new_file() {
     use nudge::edit::{Core, Editor, WriteMode};
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("nudge-mesh-save-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-mesh-save-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path();
     let out = dir.join("hat-copy.toml");
     let mut editor = Editor::open(&root.join("scenes/hat.toml")).expect("opens");
     let err = editor

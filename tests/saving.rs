@@ -113,9 +113,11 @@ fn multi_line_notes_in_a_crlf_file_load_and_save_back() {
 fn saving_keeps_the_files_line_endings_bom_and_read_only_flag() {
     use nudge::edit::{Core, Edit, EditError, Editor};
     use std::os::unix::fs::PermissionsExt;
-    let dir = std::env::temp_dir().join(format!("nudge-save-kinds-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-save-kinds-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path();
     let plain = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
     let crlf = format!("\u{feff}{}", plain.replace('\n', "\r\n"));
     let file = dir.join("bounce.toml");

@@ -8,14 +8,15 @@ use std::process::Command;
 
 fn run(script: &str, extra: &[&str]) -> (std::process::Output, serde_json::Value) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let n = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("nudge-script-errors-{}-{n}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-script-errors-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path();
     let keys = dir.join("typo.keys");
     std::fs::write(&keys, script).expect("script written");
     let out = Command::new(env!("CARGO_BIN_EXE_nudge"))
-        .current_dir(&dir)
+        .current_dir(dir)
         .arg("run")
         .arg(root.join("scenes/bounce.toml"))
         .arg("--keys")

@@ -15,7 +15,7 @@ use nudge::controls::Controls;
 use nudge::scene::{Scene, StateQuantity};
 use nudge::sim::{Party, Side, SimOptions, Trajectory, simulate};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 /// What a replayed session left behind.
@@ -23,8 +23,9 @@ struct Session {
     report: Value,
     /// The final screen (the status line has `pop N blk M`).
     screen: String,
-    /// The working directory the session ran in (`:w name` saves here).
-    dir: PathBuf,
+    /// The working directory the session ran in (`:w name` saves here),
+    /// deleted with the session.
+    dir: tempfile::TempDir,
 }
 
 /// Run the nudge binary with `args`; it must succeed (`what` names the run
@@ -44,8 +45,12 @@ fn nudge(what: &str, args: impl FnOnce(&mut Command) -> &mut Command) -> std::pr
 /// Replay `tests/sessions/<stem>.keys` on `scenes/<stem>.toml`.
 fn run(stem: &str) -> Session {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("nudge-session-{stem}-{}", std::process::id()));
-    std::fs::create_dir_all(dir.join("meshes")).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!("nudge-session-{stem}-"))
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path();
+    std::fs::create_dir_all(dir.join("meshes")).expect("meshes dir");
     // Mesh shapes are found from the scene file's folder: a scene saved
     // here (`:w name`) needs its meshes beside it.
     for mesh in std::fs::read_dir(root.join("scenes/meshes")).expect("scenes/meshes") {
@@ -57,7 +62,7 @@ fn run(stem: &str) -> Session {
         .expect("copy a mesh");
     }
     nudge(stem, |c| {
-        c.current_dir(&dir)
+        c.current_dir(dir)
             .arg("run")
             .arg(root.join("scenes").join(format!("{stem}.toml")))
             .arg("--keys")
@@ -79,7 +84,7 @@ fn run(stem: &str) -> Session {
     Session {
         report,
         screen,
-        dir,
+        dir: tmp,
     }
 }
 
@@ -316,7 +321,7 @@ fn mug_is_upright_at_its_fourth_bounce_and_stops_spinning_there() {
             .to_degrees()
     };
     let mut scene =
-        nudge::scene::load(&s.dir.join("mug-edited.toml")).unwrap_or_else(|e| panic!("{e}"));
+        nudge::scene::load(&s.dir.path().join("mug-edited.toml")).unwrap_or_else(|e| panic!("{e}"));
     let run_on = |scene: &nudge::scene::Scene| {
         let controls = Controls::new(scene);
         simulate(scene, &controls, &SimOptions::default()).expect("simulates")
@@ -471,7 +476,7 @@ fn scissors_bounce_misses(report: &Value, scene: &nudge::scene::Scene) -> Vec<St
 fn scissors_bounce_somersault_and_land_on_the_coatrack_peg() {
     let s = run("scissors-bounce");
     let r = &s.report;
-    let scene = nudge::scene::load(&s.dir.join("scissors-bounce-edited.toml"))
+    let scene = nudge::scene::load(&s.dir.path().join("scissors-bounce-edited.toml"))
         .unwrap_or_else(|e| panic!("{e}"));
     let misses = scissors_bounce_misses(r, &scene);
     assert!(misses.is_empty(), "scissors-bounce: {misses:#?}");
@@ -593,7 +598,7 @@ fn hat_drops_over_the_coatrack_pole_and_hangs_there_with_another_spin() {
     let s = run("hat");
     let r = &s.report;
     let scene =
-        nudge::scene::load(&s.dir.join("hat-edited.toml")).unwrap_or_else(|e| panic!("{e}"));
+        nudge::scene::load(&s.dir.path().join("hat-edited.toml")).unwrap_or_else(|e| panic!("{e}"));
     let traj = simulate(&scene, &Controls::new(&scene), &SimOptions::default()).expect("simulates");
     assert!(
         (traj.events[0].t - r["events"][0]["t"].as_f64().expect("t")).abs() < 1e-9
