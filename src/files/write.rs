@@ -247,12 +247,12 @@ mod tests {
     use super::*;
     use std::os::unix::fs::FileTypeExt;
 
-    /// A fresh directory for one test.
-    fn dir(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("nudge-write-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&d);
-        fs::create_dir_all(&d).expect("temp dir");
-        d
+    /// A fresh directory for one test, deleted when dropped.
+    fn dir(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new()
+            .prefix(&format!("nudge-write-{name}-"))
+            .tempdir()
+            .expect("temp dir")
     }
 
     fn mode(p: &Path) -> u32 {
@@ -262,7 +262,7 @@ mod tests {
     #[test]
     fn a_private_file_stays_private() {
         let d = dir("private");
-        let f = d.join("s.toml");
+        let f = d.path().join("s.toml");
         fs::write(&f, "a = 1\n").unwrap();
         fs::set_permissions(&f, fs::Permissions::from_mode(0o600)).unwrap();
         write_text(&f, "a = 2\n", WriteMode::Normal).expect("written");
@@ -275,11 +275,13 @@ mod tests {
     #[test]
     fn a_file_planted_at_the_temporary_name_is_left_alone() {
         let d = dir("planted");
-        let f = d.join("s.toml");
-        let victim = d.join("victim.txt");
+        let f = d.path().join("s.toml");
+        let victim = d.path().join("victim.txt");
         fs::write(&f, "a = 1\n").unwrap();
         fs::write(&victim, "precious\n").unwrap();
-        let planted = d.join(format!(".s.toml.nudge-{}-0.tmp", std::process::id()));
+        let planted = d
+            .path()
+            .join(format!(".s.toml.nudge-{}-0.tmp", std::process::id()));
         std::os::unix::fs::symlink("victim.txt", &planted).unwrap();
         write_text(&f, "a = 2\n", WriteMode::Normal).expect("written");
         assert_eq!(fs::read_to_string(&f).unwrap(), "a = 2\n");
@@ -291,7 +293,7 @@ mod tests {
                 .file_type()
                 .is_symlink()
         );
-        let mut names: Vec<String> = fs::read_dir(&d)
+        let mut names: Vec<String> = fs::read_dir(d.path())
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
             .collect();
@@ -309,7 +311,7 @@ mod tests {
     #[test]
     fn the_owner_is_kept_where_permitted() {
         let d = dir("owner");
-        let f = d.join("s.toml");
+        let f = d.path().join("s.toml");
         fs::write(&f, "a = 1\n").unwrap();
         let me = fs::metadata(&f).unwrap();
         let (uid, gid) = (me.uid() + 4321, me.gid() + 4321);
@@ -334,7 +336,7 @@ mod tests {
     #[test]
     fn a_read_only_file_is_written_only_when_forced_and_stays_read_only() {
         let d = dir("readonly");
-        let f = d.join("s.toml");
+        let f = d.path().join("s.toml");
         fs::write(&f, "a = 1\n").unwrap();
         fs::set_permissions(&f, fs::Permissions::from_mode(0o444)).unwrap();
         match write_text(&f, "a = 2\n", WriteMode::Normal) {
@@ -350,8 +352,8 @@ mod tests {
     #[test]
     fn a_symlink_stays_a_link_and_its_target_is_written() {
         let d = dir("symlink");
-        let real = d.join("real.toml");
-        let link = d.join("link.toml");
+        let real = d.path().join("real.toml");
+        let link = d.path().join("link.toml");
         fs::write(&real, "a = 1\n").unwrap();
         std::os::unix::fs::symlink("real.toml", &link).unwrap();
         write_text(&link, "a = 2\n", WriteMode::Normal).expect("written");
@@ -363,7 +365,7 @@ mod tests {
         );
         assert_eq!(fs::read_to_string(&real).unwrap(), "a = 2\n");
         // A dangling link creates the file it names.
-        let dangling = d.join("dangling.toml");
+        let dangling = d.path().join("dangling.toml");
         std::os::unix::fs::symlink("new.toml", &dangling).unwrap();
         write_text(&dangling, "b = 1\n", WriteMode::Normal).expect("written");
         assert!(
@@ -372,14 +374,17 @@ mod tests {
                 .file_type()
                 .is_symlink()
         );
-        assert_eq!(fs::read_to_string(d.join("new.toml")).unwrap(), "b = 1\n");
+        assert_eq!(
+            fs::read_to_string(d.path().join("new.toml")).unwrap(),
+            "b = 1\n"
+        );
     }
 
     #[test]
     fn every_hard_link_sees_the_new_text() {
         let d = dir("hardlink");
-        let a = d.join("a.toml");
-        let b = d.join("b.toml");
+        let a = d.path().join("a.toml");
+        let b = d.path().join("b.toml");
         fs::write(&a, "a = 1\n").unwrap();
         fs::hard_link(&a, &b).unwrap();
         fs::set_permissions(&a, fs::Permissions::from_mode(0o444)).unwrap();
@@ -391,7 +396,7 @@ mod tests {
     #[test]
     fn a_fifo_a_directory_or_a_device_is_refused_not_replaced() {
         let d = dir("special");
-        let fifo = d.join("f.toml");
+        let fifo = d.path().join("f.toml");
         rustix::fs::mknodat(
             rustix::fs::CWD,
             &fifo,
@@ -402,7 +407,7 @@ mod tests {
         .expect("mkfifo");
         for (path, kind) in [
             (fifo.as_path(), "a FIFO (named pipe)"),
-            (d.as_path(), "a directory"),
+            (d.path(), "a directory"),
             (Path::new("/dev/null"), "a device"),
         ] {
             match write_text(path, "a = 1\n", WriteMode::Force) {
@@ -416,7 +421,7 @@ mod tests {
     #[test]
     fn a_byte_order_mark_and_crlf_line_endings_are_kept() {
         let d = dir("bom");
-        let f = d.join("s.toml");
+        let f = d.path().join("s.toml");
         fs::write(&f, "\u{feff}a = 1\r\nb = 2\r\n").unwrap();
         write_text(&f, "a = 1\nb = 3\nc = 4\n", WriteMode::Normal).expect("written");
         assert_eq!(
@@ -424,11 +429,11 @@ mod tests {
             "\u{feff}a = 1\r\nb = 3\r\nc = 4\r\n".as_bytes()
         );
         // A file without them gains neither; a new file is written as given.
-        let g = d.join("t.toml");
+        let g = d.path().join("t.toml");
         fs::write(&g, "a = 1\n").unwrap();
         write_text(&g, "a = 2\n", WriteMode::Normal).expect("written");
         assert_eq!(fs::read(&g).unwrap(), b"a = 2\n");
-        let h = d.join("new.toml");
+        let h = d.path().join("new.toml");
         write_text(&h, "\u{feff}x = 1\r\n", WriteMode::Normal).expect("created");
         assert_eq!(fs::read(&h).unwrap(), "\u{feff}x = 1\r\n".as_bytes());
     }
