@@ -35,16 +35,13 @@ pub(crate) struct Pair {
     pub pushable: bool,
 }
 
-/// A search of a body against an obstacle that steps this many times in a
-/// row inside the contact band without the contact approaching is creeping
-/// in a sustained contact: the gap neither closes nor clears faster than
-/// the certified steps (a gap of picometres over a speed bound of metres
-/// per second) can follow. With a micro-collision floor the search stops
-/// there and the contact is pushed apart (`sim::run::sustained`), instead
-/// of running the whole iteration budget (10,000 steps, tens of
-/// milliseconds) into an error. Between two bodies the budget still
-/// decides: pushed after 64 steps, the toppled tower's boxes ended up
-/// overlapping by micrometres.
+/// A search that steps this many times in a row inside the contact band
+/// without the contact approaching is creeping in a sustained contact: the
+/// gap neither closes nor clears faster than the certified steps (a gap of
+/// picometres over a speed bound of metres per second) can follow. With a
+/// micro-collision floor the search stops there and the contact is pushed
+/// apart (`sim::run::sustained`), instead of running the whole iteration
+/// budget (10,000 steps, tens of milliseconds) first.
 pub(crate) const CREEP_STEPS: usize = 64;
 
 /// A pair whose contact is skipped as "not approaching" this many times in

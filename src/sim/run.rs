@@ -724,10 +724,10 @@ impl Sim<'_> {
         for k in candidates {
             let p = &self.pairs[k];
             let limit = best.as_ref().map_or(t1, |b| b.0);
-            // A search that crawls to a stall at `t` inside the window (or,
-            // against an obstacle, creeps there): the sustained contact is
-            // pushed apart (run/sustained.rs); without a micro-collision
-            // floor the stall stops the run.
+            // A search that creeps (or crawls to a stall) at `t` inside the
+            // window: the sustained contact is pushed apart there
+            // (run/sustained.rs); without a micro-collision floor the stall
+            // stops the run.
             let stall = |t| self.stall(&world, p, t);
             // An armed pair's search runs to the window's end and stands
             // while its motions do, so another pair's event does not make

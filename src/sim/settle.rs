@@ -12,6 +12,9 @@
 //! face flush with the obstacle's, then a shift along the face normal to
 //! contact height. The tangent follows the same projection (the height and
 //! the tilt no longer depend on the controls): see [`Settled::project`].
+//! The run keeps the body where it is instead when settling would push it
+//! deeper than the event skin into another body it collides with (a box
+//! settling on the floor under another lying on it).
 
 use super::rest::{over_hull, supports};
 use super::state::BodyState;

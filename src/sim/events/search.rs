@@ -153,8 +153,8 @@ impl World<'_, '_> {
     /// # Errors
     /// The time reached when the search ran out of iterations without
     /// deciding (see [`super::SimError::EventSearchStalled`]), or, for a
-    /// pushable pair with an obstacle, crept [`CREEP_STEPS`] steps in a row
-    /// inside the contact band without the contact approaching.
+    /// pushable pair, crept [`CREEP_STEPS`] steps in a row inside the
+    /// contact band without the contact approaching.
     pub fn find_impact(
         &self,
         pair: &Pair,
@@ -287,7 +287,7 @@ impl World<'_, '_> {
             } else {
                 0
             };
-            if pair.pushable && matches!(pair.b, Party::Obstacle(_)) && creep >= CREEP_STEPS {
+            if pair.pushable && creep >= CREEP_STEPS {
                 return Err(t);
             }
         }

@@ -12,8 +12,10 @@
 //! second box, both flying at 1.4 m/s, gap 6e-9 m, separating at 4e-4 m/s,
 //! steps of 7e-9 s.)
 //!
-//! Such a stall between two bodies is a sustained contact, and it ends as
-//! a *push*: at the time the search certified, the pair takes a
+//! Such a search is creeping in a sustained contact. It stops once it has
+//! crept [`CREEP_STEPS`] steps in a row inside the contact band without
+//! the contact approaching (or, failing that, at the end of its iteration
+//! budget), and the contact ends as a *push*: at that time the pair takes a
 //! micro-collision impulse (`sim::rest`, rule 3) that leaves the contact
 //! separating at the pair's floor `v_min` (the larger rest speed of the
 //! two), with friction as at any impact. It is an event like any other
@@ -30,11 +32,9 @@
 //! A body against an obstacle creeps the same way: scissors spinning at
 //! 60 rad/s, a handle's corner at the coatrack's base 6e-13 m outside the
 //! skin and separating at 1.2e-5 m/s, advanced 4e-12 s a step and ran
-//! out of iterations (73 ms for one sampled world, lost to an error).
-//! Such a search stops as soon as it has crept [`CREEP_STEPS`] steps in a
-//! row inside the contact band without approaching, and the contact is
-//! pushed the same way, with the body's rest speed as the floor. Only with
-//! no floor (`rest_speed = 0`) does a stall stop the run with
+//! out of iterations (73 ms for one sampled world, lost to an error). It
+//! is pushed the same way, with the body's rest speed as the floor. Only
+//! with no floor (`rest_speed = 0`) does a stall stop the run with
 //! `EventSearchStalled`, naming the two and the time.
 //!
 //! [`CREEP_STEPS`]: crate::sim::events::CREEP_STEPS
