@@ -83,10 +83,12 @@ mod tests {
     /// `nudge check FIFO` used to block forever in `open`.
     #[test]
     fn a_fifo_is_refused_before_it_is_opened() {
-        let dir = std::env::temp_dir().join(format!("nudge-fifo-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::Builder::new()
+            .prefix("nudge-fifo-")
+            .tempdir()
+            .expect("temp dir");
+        let dir = tmp.path().to_path_buf();
         let fifo = dir.join("scene.toml");
-        let _ = std::fs::remove_file(&fifo);
         let made = std::process::Command::new("mkfifo")
             .arg(&fifo)
             .status()
@@ -103,16 +105,18 @@ mod tests {
             err.to_string()
                 .ends_with("is a directory, not a regular file")
         );
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn a_regular_file_reads_up_to_one_past_the_limit() {
-        let path = std::env::temp_dir().join(format!("nudge-regular-{}", std::process::id()));
-        std::fs::write(&path, "0123456789").unwrap();
-        assert_eq!(read_regular(&path, 4).unwrap().len(), 5);
-        assert_eq!(read_regular_text(&path, 100).unwrap(), "0123456789");
-        assert!(read_regular_text(&path, 4).is_err());
-        std::fs::remove_file(&path).unwrap();
+        let file = tempfile::Builder::new()
+            .prefix("nudge-regular-")
+            .tempfile()
+            .expect("temp file");
+        let path = file.path();
+        std::fs::write(path, "0123456789").unwrap();
+        assert_eq!(read_regular(path, 4).unwrap().len(), 5);
+        assert_eq!(read_regular_text(path, 100).unwrap(), "0123456789");
+        assert!(read_regular_text(path, 4).is_err());
     }
 }

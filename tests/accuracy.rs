@@ -37,13 +37,15 @@ fn picking_a_setting_is_an_undoable_edit_that_is_saved() {
     run(&mut editor, "<C-r>");
     assert_eq!(editor.view().accuracy, tighter);
 
-    let dir = std::env::temp_dir().join(format!("nudge-accuracy-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-accuracy-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path().to_path_buf();
     let path = dir.join("bounce.toml");
     editor.save(Some(&path), WriteMode::Normal).expect("saves");
     let reopened = Editor::open(&path).expect("reopens");
     assert_eq!(reopened.scene().accuracy, tighter);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

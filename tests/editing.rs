@@ -339,8 +339,11 @@ fn undo_restores_u_bit_for_bit_and_redo_reapplies() {
 
 #[test]
 fn save_then_load_reproduces_the_trajectory_bit_for_bit() {
-    let dir = std::env::temp_dir().join(format!("nudge-save-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-save-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path().to_path_buf();
     let path = dir.join("edited.toml");
     // Saving writes shapes from their source text: start from a loaded file.
     let text = "duration = 1.6\neffects = [\"gravity\", \"collisions\"]\n[[body]]\nname = \"ball\"\nshape = { type = \"sphere\", radius = 0.1 }\ndensity = 1000.0\nposition = [0.0, 0.0, 1.0]\nvelocity = [1.0, 0.0, 1.0]\nrestitution = 0.8\nfree = [\"position\", \"velocity\"]\n[[obstacle]]\nname = \"ground\"\nshape = { type = \"plane\", normal = [0.0, 0.0, 1.0] }\n";
@@ -370,7 +373,6 @@ fn save_then_load_reproduces_the_trajectory_bit_for_bit() {
         assert_eq!(a.x.map(f64::to_bits), b.x.map(f64::to_bits), "t={t}");
         assert_eq!(a.v.map(f64::to_bits), b.v.map(f64::to_bits), "t={t}");
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

@@ -103,10 +103,12 @@ fn the_stored_motion_stays_within_its_budget() {
 /// that is a FIFO did the same to `nudge run`. Both are refused unopened.
 #[test]
 fn a_fifo_is_refused_not_waited_on() {
-    let dir = std::env::temp_dir().join(format!("nudge-extreme-fifo-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-extreme-fifo-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path().to_path_buf();
     let fifo = dir.join("f.toml");
-    let _ = std::fs::remove_file(&fifo);
     assert!(
         Command::new("mkfifo")
             .arg(&fifo)
@@ -140,5 +142,4 @@ fn a_fifo_is_refused_not_waited_on() {
         err.contains("reading the key script") && err.contains("is a FIFO (named pipe)"),
         "{err}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }

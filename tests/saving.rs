@@ -7,12 +7,12 @@ use nudge::files::WriteMode;
 use nudge::scene::{SceneError, load, load_str, save};
 use std::path::PathBuf;
 
-/// A fresh directory for one test.
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("nudge-saving-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+/// A fresh directory for one test, deleted when dropped.
+fn dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("nudge-saving-{name}-"))
+        .tempdir()
+        .expect("temp dir")
 }
 
 /// The shipped scenes, sorted.
@@ -30,7 +30,8 @@ fn shipped() -> Vec<PathBuf> {
 /// endings and with both, saves back unedited as the same bytes.
 #[test]
 fn a_bom_and_crlf_scene_saves_back_byte_for_byte() {
-    let d = dir("roundtrip");
+    let tmp = dir("roundtrip");
+    let d = tmp.path().to_path_buf();
     // Mesh shapes are found from the scene file's folder.
     std::fs::create_dir_all(d.join("meshes")).expect("a folder");
     for mesh in std::fs::read_dir("scenes/meshes").expect("scenes/meshes") {
@@ -66,7 +67,6 @@ fn a_bom_and_crlf_scene_saves_back_byte_for_byte() {
             assert_eq!(again.notes, scene.notes, "{how} {}", path.display());
         }
     }
-    std::fs::remove_dir_all(&d).expect("cleaned up");
 }
 
 /// Multi-line notes in a CRLF file keep their CRs in the TOML string: they
@@ -75,7 +75,8 @@ fn a_bom_and_crlf_scene_saves_back_byte_for_byte() {
 /// is refused).
 #[test]
 fn multi_line_notes_in_a_crlf_file_load_and_save_back() {
-    let d = dir("notes");
+    let tmp = dir("notes");
+    let d = tmp.path().to_path_buf();
     let plain = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
     let (head, tail) = plain.split_once("\nnotes = ").expect("bounce has notes");
     let (_, rest) = tail.split_once('\n').expect("notes is one line");
@@ -103,7 +104,6 @@ fn multi_line_notes_in_a_crlf_file_load_and_save_back() {
         ),
         Ok(_) => panic!("a lone CR in notes loaded"),
     }
-    std::fs::remove_dir_all(&d).expect("cleaned up");
 }
 
 /// Saving keeps the file what it was: a scene written with a byte-order
@@ -166,7 +166,8 @@ fn saving_keeps_the_files_line_endings_bom_and_read_only_flag() {
 #[test]
 fn saving_over_a_directory_fifo_or_device_is_refused() {
     use nudge::edit::{Core, EditError, Editor};
-    let d = dir("special");
+    let tmp = dir("special");
+    let d = tmp.path().to_path_buf();
     let fifo = d.join("pipe.toml");
     let made = std::process::Command::new("mkfifo")
         .arg(&fifo)
@@ -210,7 +211,6 @@ fn saving_over_a_directory_fifo_or_device_is_refused() {
             .file_type()
             .is_char_device()
     );
-    std::fs::remove_dir_all(&d).expect("cleaned up");
 }
 
 /// Through the runner: `:w` (or `:wq`) on a read-only scene says so and
@@ -218,7 +218,8 @@ fn saving_over_a_directory_fifo_or_device_is_refused() {
 #[test]
 fn the_editor_refuses_a_read_only_scene_until_w_bang() {
     use std::os::unix::fs::PermissionsExt;
-    let d = dir("bang");
+    let tmp = dir("bang");
+    let d = tmp.path().to_path_buf();
     let file = d.join("bounce.toml");
     let original = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
     std::fs::write(&file, &original).expect("write");
@@ -272,7 +273,6 @@ fn the_editor_refuses_a_read_only_scene_until_w_bang() {
     assert_eq!(std::fs::read_to_string(&file).expect("read"), original);
     run("V l :wq!<CR>\n");
     assert_ne!(std::fs::read_to_string(&file).expect("read"), original);
-    std::fs::remove_dir_all(&d).expect("cleaned up");
 }
 
 /// A save that fails for want of space (here a file size limit of 512
@@ -282,7 +282,8 @@ fn the_editor_refuses_a_read_only_scene_until_w_bang() {
 /// so.
 #[test]
 fn a_failed_save_leaves_the_file_or_says_it_may_be_incomplete() {
-    let d = dir("full");
+    let tmp = dir("full");
+    let d = tmp.path().to_path_buf();
     let original = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
     assert!(original.len() > 512);
     std::fs::write(d.join("keys.txt"), "V l :w<CR>\n").expect("keys");
@@ -330,7 +331,6 @@ fn a_failed_save_leaves_the_file_or_says_it_may_be_incomplete() {
         ),
         "{screen}"
     );
-    std::fs::remove_dir_all(&d).expect("cleaned up");
 }
 
 /// `:w other.toml` writes the scene with its file's byte-order mark and
@@ -338,7 +338,8 @@ fn a_failed_save_leaves_the_file_or_says_it_may_be_incomplete() {
 #[test]
 fn saving_elsewhere_keeps_the_scene_files_bom_and_line_endings() {
     use nudge::edit::{Core, Edit, Editor};
-    let d = dir("saveas");
+    let tmp = dir("saveas");
+    let d = tmp.path().to_path_buf();
     let plain = std::fs::read_to_string("scenes/bounce.toml").expect("shipped scene");
     let styled = format!("\u{feff}{}", plain.replace('\n', "\r\n"));
     let file = d.join("bounce.toml");
@@ -368,5 +369,4 @@ fn saving_elsewhere_keeps_the_scene_files_bom_and_line_endings() {
         "its own style"
     );
     assert_eq!(load(&lf).expect("loads").constraints.len(), 1);
-    std::fs::remove_dir_all(&d).expect("cleaned up");
 }

@@ -398,8 +398,12 @@ fn kept_lines(a: &[&str], b: &[&str]) -> Vec<bool> {
 fn editor_edits_keep_every_comment_and_untouched_line_of_every_scene() {
     use nudge::edit::{Core, Edit, Editor};
     use nudge::scene::{Block, StateQuantity};
-    let dir = std::env::temp_dir().join(format!("nudge-keep-{}", std::process::id()));
-    std::fs::create_dir_all(dir.join("meshes")).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-keep-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path().to_path_buf();
+    std::fs::create_dir_all(dir.join("meshes")).expect("meshes dir");
     // Mesh shapes are found from the scene file's folder.
     for mesh in std::fs::read_dir("scenes/meshes").expect("scenes/meshes") {
         let mesh = mesh.expect("entry").path();
@@ -492,7 +496,6 @@ fn editor_edits_keep_every_comment_and_untouched_line_of_every_scene() {
             "{what}: the saved file, opened and saved, changed"
         );
     }
-    std::fs::remove_dir_all(&dir).expect("cleaned up");
 }
 
 /// A comment on the line of a value the edit changes stays on that line,
@@ -551,8 +554,11 @@ fn saved_text_is_readable() {
 
 #[test]
 fn save_is_atomic_and_loads_back() {
-    let dir = std::env::temp_dir().join(format!("nudge-save-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-save-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path().to_path_buf();
     let path = dir.join("mug.toml");
     let scene = load(Path::new("scenes/mug.toml")).unwrap_or_else(|e| panic!("{e}"));
     save(&scene, &path, WriteMode::Normal).expect("saved");
@@ -568,7 +574,6 @@ fn save_is_atomic_and_loads_back() {
     );
     let again = load(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_same(&scene, &again, "saved mug");
-    std::fs::remove_dir_all(&dir).expect("cleaned up");
 }
 
 /// A scene whose bodies are an inline array, with a comment.
@@ -582,8 +587,11 @@ const INLINE_BODIES: &str = "# A comment the new text cannot keep.\nduration = 1
 fn a_layout_not_edited_in_place_is_saved_as_new_text_and_the_user_is_told() {
     use nudge::edit::{Core, Edit, Editor};
     use nudge::scene::StateQuantity;
-    let dir = std::env::temp_dir().join(format!("nudge-inline-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-inline-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path().to_path_buf();
     let path = dir.join("inline.toml");
     std::fs::write(&path, INLINE_BODIES).expect("written");
     let mut e = Editor::open(&path).unwrap_or_else(|err| panic!("{err}"));
@@ -626,15 +634,17 @@ fn a_layout_not_edited_in_place_is_saved_as_new_text_and_the_user_is_told() {
         text.contains("as new text, without its comments"),
         "the status line warns:\n{text}"
     );
-    std::fs::remove_dir_all(&dir).expect("cleaned up");
 }
 
 /// The size is checked before reading: the file here is sparse and full of
 /// NUL bytes, which would be a different error if it were read.
 #[test]
 fn an_oversized_file_is_refused_by_its_size() {
-    let dir = std::env::temp_dir().join(format!("nudge-large-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-large-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path().to_path_buf();
     let path = dir.join("huge.toml");
     let file = std::fs::File::create(&path).expect("created");
     file.set_len(16 * 1024 * 1024 + 1).expect("sized");
@@ -645,7 +655,6 @@ fn an_oversized_file_is_refused_by_its_size() {
         path.display()
     );
     assert_eq!(got, expected);
-    std::fs::remove_dir_all(&dir).expect("cleaned up");
 }
 
 #[test]

@@ -145,8 +145,11 @@ fn non_finite_commands_and_hostile_key_scripts_leave_the_editor_unchanged() {
 /// nested compound is refused with a message, not a stack overflow.
 #[test]
 fn a_100_mb_scene_and_a_deeply_nested_compound_are_refused_cleanly() {
-    let dir = std::env::temp_dir().join(format!("nudge-hard-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("nudge-hard-")
+        .tempdir()
+        .expect("temp dir");
+    let dir = tmp.path().to_path_buf();
     let big = dir.join("big.toml");
     std::fs::File::create(&big)
         .unwrap()
@@ -162,7 +165,7 @@ fn a_100_mb_scene_and_a_deeply_nested_compound_are_refused_cleanly() {
         started.elapsed().as_secs_f64() < 1.0,
         "refused without reading it"
     );
-    std::fs::remove_dir_all(&dir).ok();
+    drop(tmp);
     // The same in memory.
     let text = format!(
         "duration = 1.0\neffects = []\nnotes = \"{}\"\n",
