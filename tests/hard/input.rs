@@ -155,15 +155,12 @@ fn a_100_mb_scene_and_a_deeply_nested_compound_are_refused_cleanly() {
         .unwrap()
         .set_len(100 * 1024 * 1024)
         .unwrap();
-    let started = std::time::Instant::now();
+    // Refused by its size; that the reading stops one byte past the limit
+    // is src/files.rs's a_regular_file_reads_up_to_one_past_the_limit.
     let err = nudge::scene::load(&big).expect_err("too large").to_string();
     assert!(
         err.contains("too large") && err.contains("104857600"),
         "{err}"
-    );
-    assert!(
-        started.elapsed().as_secs_f64() < 1.0,
-        "refused without reading it"
     );
     drop(tmp);
     // The same in memory.
