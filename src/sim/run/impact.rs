@@ -608,7 +608,6 @@ impl Sim<'_> {
         (!corners.is_empty()).then_some((corners, depth, impulse_face))
     }
 
-    /// Refuse a pair that chatters: many impacts in a tiny span of time.
     /// Whether settling body `a` from `before` to `after` at `tc` pushes it
     /// no deeper than the event skin into a body it collides with (nor
     /// deeper than it already was). Settling turns and shifts the body by
@@ -628,6 +627,7 @@ impl Sim<'_> {
         })
     }
 
+    /// Refuse a pair that chatters: many impacts in a tiny span of time.
     pub(super) fn check_sustained(&self, k: usize, tc: f64) -> Result<(), SimError> {
         const COUNT: usize = 200;
         let pair = self.pairs[k];
