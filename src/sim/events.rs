@@ -29,10 +29,6 @@ pub(crate) struct Pair {
     /// The search of this pair crawled in a sustained contact and its next
     /// impact is a *push* (`sim::run::sustained`).
     pub push: bool,
-    /// Whether the pair has a micro-collision floor (a rest speed), so that
-    /// a search stalled or creeping in a sustained contact ends in a push
-    /// (see [`CREEP_STEPS`]).
-    pub pushable: bool,
 }
 
 /// A search that steps this many times in a row inside the contact band

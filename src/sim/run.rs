@@ -250,7 +250,6 @@ pub fn simulate(
                     skips: 0,
                     skipped_since: 0.0,
                     push: false,
-                    pushable: false,
                 });
             }
         }
@@ -263,7 +262,6 @@ pub fn simulate(
                 skips: 0,
                 skipped_since: 0.0,
                 push: false,
-                pushable: false,
             });
         }
     }
@@ -332,9 +330,6 @@ pub fn simulate(
             arm: (10.0 * root).max(1e-9),
         },
     };
-    for k in 0..sim.pairs.len() {
-        sim.pairs[k].pushable = sim.pair_floor(&sim.pairs[k]) > 0.0;
-    }
     sim.run()?;
     Ok(sim.traj)
 }

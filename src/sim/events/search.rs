@@ -152,9 +152,11 @@ impl World<'_, '_> {
     ///
     /// # Errors
     /// The time reached when the search ran out of iterations without
-    /// deciding (see [`super::SimError::EventSearchStalled`]), or, for a
-    /// pushable pair, crept [`CREEP_STEPS`] steps in a row inside the
-    /// contact band without the contact approaching.
+    /// deciding (see [`super::SimError::EventSearchStalled`]), or, when the
+    /// scene has a micro-collision floor (`rest_speed > 0`: every pair's
+    /// floor is then positive, `sim::rest::thresholds`), crept
+    /// [`CREEP_STEPS`] steps in a row inside the contact band without the
+    /// contact approaching.
     pub fn find_impact(
         &self,
         pair: &Pair,
@@ -287,7 +289,7 @@ impl World<'_, '_> {
             } else {
                 0
             };
-            if pair.pushable && creep >= CREEP_STEPS {
+            if self.scene.rest_speed > 0.0 && creep >= CREEP_STEPS {
                 return Err(t);
             }
         }

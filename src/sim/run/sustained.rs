@@ -60,7 +60,7 @@ impl Sim<'_> {
         pair: &Pair,
         t: f64,
     ) -> Result<(f64, crate::geometry::Contact), SimError> {
-        if pair.pushable
+        if self.pair_floor(pair) > 0.0
             && let Some((c, _)) = world.contact(pair, t, f64::INFINITY)
         {
             return Ok((t, c));
