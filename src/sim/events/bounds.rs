@@ -364,9 +364,29 @@ impl World<'_, '_> {
                     }
                 }
                 _ => {
+                    // The plane bounds the obstacle's part only as far as it
+                    // supports it: a normal off by round-off (EPA's, of two
+                    // faces nearly flush) tilts it, and the part then rises
+                    // above it by the tilt times its extent. Raise the plane
+                    // to the part's top.
+                    let top = match (pair.b, &gb.parts[c.part_b].kind) {
+                        (
+                            Party::Obstacle(o),
+                            crate::geometry::PartKind::Convex { vertices, .. },
+                        ) => {
+                            let w = self.scene.obstacles[o].pose * gb.parts[c.part_b].offset;
+                            let nl = w.rotation.inverse() * n;
+                            let base = n.dot(&(w.translation.vector - p0));
+                            vertices
+                                .iter()
+                                .map(|v| base + nl.dot(v))
+                                .fold(0.0, f64::max)
+                        }
+                        _ => 0.0,
+                    };
                     for (b, &level) in step.iter_mut().zip(&levels) {
                         for &(h, hd, acc) in &ha {
-                            *b = b.min(first_cross(h, hd, acc, level));
+                            *b = b.min(first_cross(h, hd, acc, level + top));
                         }
                     }
                     if let Party::Obstacle(o) = pair.b {
