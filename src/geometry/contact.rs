@@ -183,14 +183,14 @@ impl<'g> Placement<'g> {
         }
     }
 
-    /// This placement without part `part` (the others keep their indices):
-    /// a body pivoting on that part is not searched against it.
-    pub fn without(&self, part: usize) -> Placement<'g> {
+    /// This placement without the parts `parts` (the others keep their
+    /// indices): a body pivoting on them is not searched against them.
+    pub fn without(&self, parts: &[usize]) -> Placement<'g> {
         Placement {
             parts: self
                 .parts
                 .iter()
-                .filter(|p| p.index != part)
+                .filter(|p| !parts.contains(&p.index))
                 .cloned()
                 .collect(),
         }

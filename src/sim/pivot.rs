@@ -49,8 +49,12 @@
 //! face. A body on a single slipping corner skids on that corner, and one
 //! on a corner that friction holds turns about it, pinned (a ball joint).
 //! A body lying on a face with its centre of mass beyond its supports
-//! topples over their hull's edge as a hinge (`pivot::topple`).
+//! topples over their hull's edge as a hinge (`pivot::topple`). A body
+//! whose only two supports lie on surfaces with different normals (a rod
+//! in the corner of a floor and a wall) leans: it turns about the line
+//! through them as a hinge, held by friction at both ends (`pivot::lean`).
 
+mod lean;
 mod skid;
 pub(crate) mod topple;
 mod turning;
@@ -60,6 +64,7 @@ use super::state::BodyState;
 use crate::geometry::{NearPoint, PartKind, flat_faces};
 use crate::math::{Vec3, exp_so3};
 use crate::scene::Scene;
+pub use lean::Lean;
 pub use skid::Skid;
 use turning::{Hinge, Landing, Turn, swept_box};
 
@@ -108,6 +113,11 @@ pub struct Pivot {
     /// At a landing: the body point that lands (its part, and its offset
     /// from the centre of mass in the body frame).
     pub landing: Option<(usize, Vec3)>,
+    /// The line's far end touches another surface, with another normal
+    /// (`pivot::lean`): its part and normal; and whether the body lands on
+    /// that surface's plane rather than on the first.
+    pub lean: Option<Lean>,
+    pub lands_on_lean: bool,
     /// Whether other parts of the obstacle come near the space the body
     /// sweeps: the pair is then searched, without the part it turns on.
     pub beside: bool,
@@ -140,6 +150,19 @@ pub(super) enum Clear {
     Blocked,
 }
 
+/// The box a pivoting body sweeps in its contact plane's frame, and,
+/// leaning, in the far end's plane's frame (see [`Pivot::sweep`]).
+type Boxes = ([(f64, f64); 3], Option<[(f64, f64); 3]>);
+
+/// A part a pivot turns on, for [`Pivot::clear_on`]: its index, the other
+/// end's part (leaning), and the level of its plane along the normal from
+/// the line's point, m.
+struct On {
+    part: usize,
+    other: Option<usize>,
+    level: f64,
+}
+
 /// Everything [`Pivot::enter`] needs about the impact.
 pub(crate) struct PivotStart<'a> {
     pub scene: &'a Scene,
@@ -163,6 +186,10 @@ pub(crate) struct PivotStart<'a> {
     /// face, toppling over it (`pivot::topple`): the plastic impact of the
     /// whole patch stops any turn back onto it.
     pub topple: bool,
+    /// The supports are two points whose surfaces have different normals
+    /// (`pivot::lean`): the second one's part and normal (`supports[1]`;
+    /// `part` is the first one's).
+    pub lean: Option<Lean>,
 }
 
 /// The line a body's support points make on one obstacle.
@@ -209,6 +236,21 @@ impl SupportLine {
             point,
             axis,
             normal: n,
+            length: far,
+        })
+    }
+
+    /// The line through two supports whose normals differ (`pivot::lean`;
+    /// its normal is the first one's), at least `1e-3 · reach` apart.
+    pub(crate) fn across(supports: &[NearPoint], reach: f64) -> Option<SupportLine> {
+        let [a, b] = supports else {
+            return None;
+        };
+        let far = (b.point - a.point).norm();
+        (far >= 1e-3 * reach).then(|| SupportLine {
+            point: a.point,
+            axis: (b.point - a.point) / far,
+            normal: a.normal,
             length: far,
         })
     }
@@ -262,7 +304,10 @@ impl Pivot {
             axis,
             normal: n,
             length: far,
-        } = SupportLine::of(p.supports, d.reach)?;
+        } = match p.lean {
+            Some(_) => SupportLine::across(p.supports, d.reach)?,
+            None => SupportLine::of(p.supports, d.reach)?,
+        };
         let tol = 1e-6 * d.reach;
         // Plastic impact of the whole line: keep the momentum about it.
         let rot = *s.q.to_rotation_matrix().matrix();
@@ -302,6 +347,8 @@ impl Pivot {
             duration: 0.0,
             end: PivotEnd::Duration,
             landing: None,
+            lean: p.lean,
+            lands_on_lean: false,
             beside: false,
             v_max: 0.0,
             w_max: rate.abs(),
@@ -325,15 +372,45 @@ impl Pivot {
             .iter()
             .filter(|(.., r)| (r - axis * axis.dot(r)).norm() > tol)
             .collect();
-        let start_low = off
-            .iter()
-            .map(|(.., radius, r)| n.dot(r) - radius)
-            .fold(f64::INFINITY, f64::min);
+        let low = |n: &Vec3, level: f64| {
+            off.iter()
+                .map(|(.., radius, r)| n.dot(r) - level - radius)
+                .fold(f64::INFINITY, f64::min)
+        };
+        // Heights are from the line's point; leaning, the surfaces' own
+        // planes are at `level` from it along their normals.
+        let level = p.lean.map_or(0.0, |l| l.planes[0] - n.dot(&point));
+        let start_low = low(&n, level);
         if start_low < -tol {
             return None;
         }
-        let floor = start_low.min(0.0);
+        let floor = start_low.min(0.0) + level;
         let landing = Landing::new(&axis, &n, &off, floor);
+        // Leaning, the far end's surface is a second plane to land on.
+        let second = match p.lean {
+            Some(l) => {
+                let level = l.planes[1] - l.normal.dot(&point);
+                let start_low = low(&l.normal, level);
+                if start_low < -tol {
+                    return None;
+                }
+                Some(Landing::new(
+                    &axis,
+                    &l.normal,
+                    &off,
+                    start_low.min(0.0) + level,
+                ))
+            }
+            None => None,
+        };
+        // The point that has landed at angle `th`, and whether on the
+        // second plane.
+        let crossed = |th: f64| {
+            landing
+                .crossed(th)
+                .map(|q| (q, false))
+                .or_else(|| second.as_ref()?.crossed(th).map(|q| (q, true)))
+        };
         // Points move at most this far between two samples of the sweep.
         let reach = all
             .iter()
@@ -358,13 +435,13 @@ impl Pivot {
             let alpha = turn.accel(th1);
             pv.alpha_max = pv.alpha_max.max(alpha.abs());
             pv.accel_max = pv.accel_max.max((alpha.abs() + w1 * w1) * r0.norm());
-            if let Some(point) = landing.crossed(th1) {
+            if let Some((point, on_lean)) = crossed(th1) {
                 // Lands between the steps: bisect the step on the angle.
                 let (mut lo, mut hi) = (0.0, h);
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
                     let (tm, _) = turn.rk4(th, w, mid);
-                    if landing.crossed(tm).is_some() {
+                    if crossed(tm).is_some() {
                         hi = mid;
                     } else {
                         lo = mid;
@@ -373,6 +450,7 @@ impl Pivot {
                 pv.duration = k as f64 * STEP + hi;
                 pv.end = PivotEnd::Lands;
                 pv.landing = Some(point);
+                pv.lands_on_lean = on_lean;
                 let swept = pv.sweep(&all, th_lo, th_hi);
                 pv.motion = Motion::Hinge(turn);
                 return pv.started(s, p, &swept, reach);
@@ -402,8 +480,41 @@ impl Pivot {
     /// a separating axis among the box's three proves another part clear,
     /// and a part that none separates (or an unbounded one) is
     /// [`Clear::Beside`].
-    fn clear(&self, p: &PivotStart<'_>, swept: &[(f64, f64); 3]) -> Clear {
-        Self::clear_of(&self.point, &self.axis, &self.normal, p, swept)
+    /// Leaning (`pivot::lean`), the far end's part must stay below its
+    /// own plane in the second box (`swept.1`, of that plane's frame), and
+    /// neither part counts as beside in the other's check.
+    fn clear(&self, p: &PivotStart<'_>, swept: &Boxes) -> Clear {
+        let Some(lean) = self.lean else {
+            return Self::clear_of(&self.point, &self.axis, &self.normal, p, &swept.0);
+        };
+        let first = On {
+            part: p.part,
+            other: Some(lean.part),
+            level: lean.planes[0] - self.normal.dot(&self.point),
+        };
+        let far = On {
+            part: lean.part,
+            other: Some(p.part),
+            level: lean.planes[1] - lean.normal.dot(&self.point),
+        };
+        let verdicts = [
+            Self::clear_on(&self.point, &self.axis, &self.normal, p, &first, &swept.0),
+            Self::clear_on(
+                &self.point,
+                &self.axis,
+                &lean.normal,
+                p,
+                &far,
+                swept.1.as_ref().unwrap_or(&swept.0),
+            ),
+        ];
+        if verdicts.contains(&Clear::Blocked) {
+            Clear::Blocked
+        } else if verdicts.contains(&Clear::Beside) {
+            Clear::Beside
+        } else {
+            Clear::Free
+        }
     }
 
     /// [`Pivot::clear`] of a line through `point` along `axis` on the
@@ -413,6 +524,25 @@ impl Pivot {
         axis: &Vec3,
         normal: &Vec3,
         p: &PivotStart<'_>,
+        swept: &[(f64, f64); 3],
+    ) -> Clear {
+        let on = On {
+            part: p.part,
+            other: None,
+            level: 0.0,
+        };
+        Self::clear_on(point, axis, normal, p, &on, swept)
+    }
+
+    /// [`Pivot::clear_of`] with the part turned on, a part that is neither
+    /// clear nor beside (the other end's, leaning), and the plane's level
+    /// along `normal` from `point` given by `on`.
+    fn clear_on(
+        point: &Vec3,
+        axis: &Vec3,
+        normal: &Vec3,
+        p: &PivotStart<'_>,
+        on: &On,
         swept: &[(f64, f64); 3],
     ) -> Clear {
         let (a, n) = (*axis, *normal);
@@ -431,12 +561,15 @@ impl Pivot {
                         .collect(),
                     0.0,
                 ),
-                _ if k == p.part => continue,
+                _ if k == on.part || Some(k) == on.other => continue,
                 _ => {
                     verdict = Clear::Beside;
                     continue;
                 }
             };
+            if Some(k) == on.other {
+                continue;
+            }
             let span = |dir: &Vec3| {
                 pts.iter()
                     .map(|q| dir.dot(&(q - point)))
@@ -445,11 +578,13 @@ impl Pivot {
                     })
             };
             let apart = |(lo, hi): (f64, f64), (s_lo, s_hi): (f64, f64)| hi < s_lo || lo > s_hi;
-            let clear = apart(span(&a), swept[0]) || apart(span(&b), swept[1]) || span(&n).1 <= tol;
+            let clear = apart(span(&a), swept[0])
+                || apart(span(&b), swept[1])
+                || span(&n).1 <= on.level + tol;
             if clear {
                 continue;
             }
-            if k == p.part {
+            if k == on.part {
                 return Clear::Blocked;
             }
             verdict = Clear::Beside;
@@ -459,9 +594,10 @@ impl Pivot {
 
     /// `swept` widened by how far the body's points move in one step at
     /// the pivot's top spin (the box is of the sampled angles).
-    fn padded(&self, swept: &[(f64, f64); 3], reach: f64, p: &PivotStart<'_>) -> [(f64, f64); 3] {
+    fn padded(&self, swept: &Boxes, reach: f64, p: &PivotStart<'_>) -> Boxes {
         let pad = reach * self.w_max * STEP + 1e-6 * p.dynamics.reach;
-        swept.map(|(lo, hi)| (lo - pad, hi + pad))
+        let grow = |b: &[(f64, f64); 3]| b.map(|(lo, hi)| (lo - pad, hi + pad));
+        (grow(&swept.0), swept.1.as_ref().map(grow))
     }
 
     /// The box (intervals along the line, across it in the contact plane,
@@ -471,8 +607,13 @@ impl Pivot {
     /// extremes over an interval are at its ends or at `φ` and `φ + π`
     /// (mod 2π): exact, and one pass over the points however long the
     /// pivot.
-    fn sweep(&self, pts: &[(usize, Vec3, f64, Vec3)], lo: f64, hi: f64) -> [(f64, f64); 3] {
-        swept_box(&self.axis, &self.normal, pts, lo, hi)
+    /// Leaning, the second box is in the far end's plane's frame.
+    fn sweep(&self, pts: &[(usize, Vec3, f64, Vec3)], lo: f64, hi: f64) -> Boxes {
+        (
+            swept_box(&self.axis, &self.normal, pts, lo, hi),
+            self.lean
+                .map(|l| swept_box(&self.axis, &l.normal, pts, lo, hi)),
+        )
     }
 
     /// The pivot and its start, unless it lands within its first step or
@@ -482,7 +623,7 @@ impl Pivot {
         mut self,
         s: &BodyState,
         p: &PivotStart<'_>,
-        swept: &[(f64, f64); 3],
+        swept: &Boxes,
         reach: f64,
     ) -> Option<(Pivot, BodyState)> {
         // A landing within the first step is an impact of two supports at
@@ -495,8 +636,12 @@ impl Pivot {
         // the plane, which this hinge does not follow).
         if let (PivotEnd::Lands, Some((_, v))) = (self.end, self.landing) {
             let o = &p.scene.obstacles[p.obstacle];
-            let face = o.geometry.parts.get(p.part).and_then(|part| {
-                flat_faces(part, &o.pose, &self.normal, 1.0 - 1e-6)
+            let (part, normal) = match self.lean {
+                Some(l) if self.lands_on_lean => (l.part, l.normal),
+                _ => (p.part, self.normal),
+            };
+            let face = o.geometry.parts.get(part).and_then(|part| {
+                flat_faces(part, &o.pose, &normal, 1.0 - 1e-6)
                     .into_iter()
                     .next()
             });
@@ -558,10 +703,21 @@ impl Pivot {
         let f = (acc - g) * d.mass;
         let m = ipa * accel + omega.cross(&(ipa * w)) - r.cross(&(g * d.mass));
         let n = self.normal;
+        let scale = 1e-9 * d.mass * g.norm();
+        if let Some(l) = self.lean {
+            return lean::fails(&f, &m, &a, self.length, [&n, &l.normal], friction, scale).map(
+                |lifts| {
+                    if lifts {
+                        PivotEnd::LiftsOff
+                    } else {
+                        PivotEnd::Slips
+                    }
+                },
+            );
+        }
         let fn_total = f.dot(&n);
         let n2 = m.dot(&a.cross(&n)) / self.length;
         let n1 = fn_total - n2;
-        let scale = 1e-9 * d.mass * g.norm();
         if n1 < -scale || n2 < -scale {
             return Some(PivotEnd::LiftsOff);
         }

@@ -62,7 +62,10 @@
 //!    body turns about the edge as a hinge until it rolls onto a face,
 //!    lifts off or slips, in one event instead of hundreds of hops; where
 //!    friction cannot hold the edge on a half-space (or there is none) it
-//!    *skids*, the edge sliding on the plane (`sim::pivot::skid`).
+//!    *skids*, the edge sliding on the plane (`sim::pivot::skid`). A
+//!    body on exactly two support points on surfaces with different
+//!    normals (a floor and a wall) *leans*, turning about the line through
+//!    them while friction holds both ends (`sim::pivot::lean`).
 //!
 //! Every path ends: a Zeno series of a supported body falls below `v_r` in
 //! finitely many bounces and rests or slides; chatter is bounded by the hop
@@ -215,6 +218,27 @@ pub(crate) fn supports(
         &o.pose,
         band,
     )
+}
+
+/// [`supports`] with the part of the obstacle each lies on, in the same
+/// order.
+pub(crate) fn supports_on_parts(
+    scene: &Scene,
+    body: usize,
+    obstacle: usize,
+    s: &BodyState,
+    band: f64,
+) -> Vec<(usize, NearPoint)> {
+    let pose = s.pose();
+    let o = &scene.obstacles[obstacle];
+    let mut out = Vec::new();
+    for pa in &scene.bodies[body].geometry.parts {
+        for (k, pb) in o.geometry.parts.iter().enumerate() {
+            let near = crate::geometry::part_near_points(pa, &pose, pb, &o.pose, band);
+            out.extend(near.into_iter().map(|q| (k, q)));
+        }
+    }
+    out
 }
 
 /// Whether the line through `com` along `dir` meets the convex hull of

@@ -46,12 +46,17 @@ impl World<'_, '_> {
             // `sim::rest::face`).
             Party::Obstacle(o) => {
                 let on = self.traj.tracks[pair.a].segments.last().and_then(|s| {
-                    let pivot = s.pivot.as_deref().map(|pv| (pv.obstacle, pv.part));
-                    let slide = s.slide.and_then(|sl| Some((sl.obstacle, sl.face?.part)));
+                    let pivot = s.pivot.as_deref().map(|pv| {
+                        let far = pv.lean.map_or(pv.part, |l| l.part);
+                        (pv.obstacle, [pv.part, far])
+                    });
+                    let slide = s
+                        .slide
+                        .and_then(|sl| Some((sl.obstacle, [sl.face?.part; 2])));
                     pivot.or(slide).filter(|(on, _)| *on == o)
                 });
                 match on {
-                    Some((_, part)) => query(&a, &self.obstacles[o].without(part)),
+                    Some((_, parts)) => query(&a, &self.obstacles[o].without(&parts)),
                     None => query(&a, &self.obstacles[o]),
                 }
             }

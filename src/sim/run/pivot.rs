@@ -3,7 +3,8 @@
 //! `sim::pivot`).
 
 use super::*;
-use crate::sim::pivot::{Pivot, PivotEnd, PivotStart, SupportLine, topple};
+use crate::geometry::NearPoint;
+use crate::sim::pivot::{Lean, Pivot, PivotEnd, PivotStart, SupportLine, topple};
 
 impl Sim<'_> {
     /// The pivot that an impact of body `a` on obstacle `o` (its part
@@ -24,7 +25,8 @@ impl Sim<'_> {
         // Most Zeno-regime impacts are neither on a line nor on a corner
         // that can skid (on a face, or without friction): that is asked
         // first, of this obstacle's supports only.
-        let supports = rest::supports(scene, a, o, post, band);
+        let on_parts = rest::supports_on_parts(scene, a, o, post, band);
+        let supports: Vec<NearPoint> = on_parts.iter().map(|(_, q)| *q).collect();
         let line = SupportLine::of(&supports, d.reach).is_some();
         // Lying on a face with the centre of mass beyond the supports'
         // hull, it topples over the hull's edge it hangs over.
@@ -32,7 +34,30 @@ impl Sim<'_> {
             Some(Some(edge)) => Some(edge).filter(|e| SupportLine::of(e, d.reach).is_some()),
             _ => None,
         };
-        if !line && toppling.is_none() && (supports.len() != 1 || friction <= 0.0) {
+        // Two supports on surfaces with different normals: the body leans
+        // on them, a hinge about the line through both (`pivot::lean`).
+        let lean = match on_parts.as_slice() {
+            [(k1, s1), (k2, s2)]
+                if !line
+                    && toppling.is_none()
+                    && friction > 0.0
+                    && s1.normal.dot(&s2.normal) < 1.0 - 1e-6 =>
+            {
+                let [a1, a2] = [(k1, s1), (k2, s2)].map(|(k, q)| surface(scene, o, *k, q));
+                Some((
+                    *k1,
+                    [a1.0, a2.0],
+                    Lean {
+                        part: *k2,
+                        normal: a2.0.normal,
+                        planes: [a1.1, a2.1],
+                    },
+                ))
+            }
+            _ => None,
+        };
+        if !line && toppling.is_none() && lean.is_none() && (supports.len() != 1 || friction <= 0.0)
+        {
             return None;
         }
         let elsewhere = (0..scene.obstacles.len())
@@ -49,18 +74,22 @@ impl Sim<'_> {
             return None;
         }
         let start = PivotStart {
-            supports: toppling.as_deref().unwrap_or(&supports),
+            supports: match &lean {
+                Some((_, ends, _)) => ends,
+                None => toppling.as_deref().unwrap_or(&supports),
+            },
             topple: toppling.is_some(),
             scene,
             dynamics: d,
             gravity: self.traj.gravity,
             body: a,
             obstacle: o,
-            part,
+            part: lean.map_or(part, |(k1, ..)| k1),
             post: *post,
             friction,
             horizon: self.traj.duration - tc,
             v_rest,
+            lean: lean.map(|(.., l)| l),
         };
         // The hinge when friction holds the line, else a skid (on a single
         // corner, only a skid). Without friction a body stays in
@@ -73,7 +102,7 @@ impl Sim<'_> {
                 .then(|| Pivot::enter_skid(&start))
                 .flatten()
         };
-        if toppling.is_some() {
+        if toppling.is_some() || lean.is_some() {
             Pivot::enter(&start)
         } else if line {
             Pivot::enter(&start).or_else(skid)
@@ -130,14 +159,19 @@ impl Sim<'_> {
         };
         if let (PivotEnd::Lands, Some((part, v))) = (pv.end, pv.landing) {
             let point_a = s.point(&v);
-            let n = pv.normal;
+            // On the first end's plane, or leaning on either surface's.
+            let (n, level, part_b) = match pv.lean {
+                Some(l) if pv.lands_on_lean => (l.normal, l.planes[1], l.part),
+                Some(l) => (pv.normal, l.planes[0], pv.part),
+                None => (pv.normal, pv.normal.dot(&pv.point), pv.part),
+            };
             let contact = crate::geometry::Contact {
                 distance: 0.0,
                 normal: n,
                 point_a,
-                point_b: point_a - n * n.dot(&(point_a - pv.point)),
+                point_b: point_a - n * (n.dot(&point_a) - level),
                 part_a: part,
-                part_b: pv.part,
+                part_b,
             };
             return self.impact(te, k, &contact);
         }
@@ -157,5 +191,29 @@ impl Sim<'_> {
         self.pairs[k].armed = false;
         self.pairs[k].hold = te;
         Ok(())
+    }
+}
+
+/// The surface a support of body-on-obstacle `o` lies on, at part `k`:
+/// the support with the normal of the part's face there when it lies on a
+/// face (a corner's normal can be tilted by round-off), and that surface's
+/// plane `n · x = offset`.
+fn surface(scene: &Scene, o: usize, k: usize, q: &NearPoint) -> (NearPoint, f64) {
+    let ob = &scene.obstacles[o];
+    let face = ob.geometry.parts.get(k).and_then(|part| {
+        crate::geometry::flat_faces(part, &ob.pose, &q.normal, 1.0 - 1e-6)
+            .into_iter()
+            .next()
+    });
+    match face {
+        Some(f) => (
+            NearPoint {
+                normal: f.normal,
+                distance: f.normal.dot(&q.point) - f.offset,
+                ..*q
+            },
+            f.offset,
+        ),
+        None => (*q, q.normal.dot(&q.point) - q.distance),
     }
 }

@@ -265,6 +265,8 @@ impl Pivot {
             duration: course.duration,
             end: course.end,
             landing: course.landing,
+            lean: None,
+            lands_on_lean: false,
             beside: false,
             v_max: course.v_max,
             w_max: course.w_max,
@@ -275,7 +277,7 @@ impl Pivot {
         // sweep (a coatrack's pole on its base), an end sliding off the face
         // may meet one of them at that very instant, where the search of
         // those parts stops at the skid's end: no skid there.
-        pv.started(s, p, &swept, 0.0)
+        pv.started(s, p, &(swept, None), 0.0)
             .filter(|(pv, _)| !(on_hull && pv.beside && !pv.pinned()))
     }
 }

@@ -79,6 +79,7 @@ fn skid(s: &Scene, d: &BodyDynamics, state: &BodyState, mu: f64) -> (Pivot, Body
         friction: mu,
         horizon: 2.0,
         v_rest: 1e-3,
+        lean: None,
         topple: false,
     })
     .expect("the box skids")
@@ -208,6 +209,7 @@ fn an_edge_at_rest_skids_when_friction_cannot_hold_it_and_not_when_it_can() {
         friction: mu,
         horizon: 2.0,
         v_rest: 1e-3,
+        lean: None,
         topple: false,
     };
     // Grippy: the hinge's domain, no skid.
