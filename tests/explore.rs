@@ -637,14 +637,11 @@ fn s_takes_the_alternative_and_settles_from_it() {
         "{}",
         r.screen
     );
-    // The taken eggs rattle in their bucket: the error estimate's finer
-    // run meets other contacts, and the warning says so instead of asking
-    // for a tighter tolerance than the scene's 1e-9.
-    assert!(
-        r.screen.contains("the contacts differ from t =") && !r.screen.contains("tighter tol"),
-        "{}",
-        r.screen
-    );
+    // The taken eggs end in their buckets: the settle's error estimate
+    // never asks for a tolerance tighter than the scene's 1e-9 (where its
+    // finer run meets other contacts, it says that instead:
+    // `estimate::tests`).
+    assert!(!r.screen.contains("tighter tol"), "{}", r.screen);
     // Undo the settle, then the take: back to the unedited throw.
     editor.apply(Edit::Undo).expect("undo the settle");
     editor.apply(Edit::Undo).expect("undo the take");

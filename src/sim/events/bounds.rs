@@ -4,7 +4,7 @@
 
 use super::planes::{FacePlane, Heights, TurningPlane, first_cross};
 use super::{Pair, World};
-use crate::geometry::{Contact, Geometry};
+use crate::geometry::{Contact, Geometry, Part, PartKind};
 use crate::math::Vec3;
 use crate::sim::state::{BodyState, Side};
 use crate::sim::trajectory::Party;
@@ -339,6 +339,14 @@ impl World<'_, '_> {
                 }
                 continue;
             }
+            // Against an obstacle the plane must support its part (see
+            // `supporting`): a touching contact's normal can be far off.
+            let (n, top) = match (pair.b, moving_b) {
+                (Party::Obstacle(o), None) => {
+                    supporting(&gb.parts[c.part_b], &self.scene.obstacles[o].pose, n, &p0)
+                }
+                _ => (n, 0.0),
+            };
             // The plane moves with b's witness point (and falls with gravity
             // for two bodies): two bodies moving together see slow heights.
             let vf = moving_b.map_or(Vec3::zeros(), |(_, sb)| sb.velocity_at(&p0));
@@ -364,26 +372,6 @@ impl World<'_, '_> {
                     }
                 }
                 _ => {
-                    // The plane bounds the obstacle's part only as far as it
-                    // supports it: a normal off by round-off (EPA's, of two
-                    // faces nearly flush) tilts it, and the part then rises
-                    // above it by the tilt times its extent. Raise the plane
-                    // to the part's top.
-                    let top = match (pair.b, &gb.parts[c.part_b].kind) {
-                        (
-                            Party::Obstacle(o),
-                            crate::geometry::PartKind::Convex { vertices, .. },
-                        ) => {
-                            let w = self.scene.obstacles[o].pose * gb.parts[c.part_b].offset;
-                            let nl = w.rotation.inverse() * n;
-                            let base = n.dot(&(w.translation.vector - p0));
-                            vertices
-                                .iter()
-                                .map(|v| base + nl.dot(v))
-                                .fold(0.0, f64::max)
-                        }
-                        _ => 0.0,
-                    };
                     for (b, &level) in step.iter_mut().zip(&levels) {
                         for &(h, hd, acc) in &ha {
                             *b = b.min(first_cross(h, hd, acc, level + top));
@@ -437,4 +425,45 @@ impl World<'_, '_> {
             }
         }
     }
+}
+
+/// Cosine of the widest angle, 0.02 rad, between a contact's normal and a
+/// face of the obstacle's part that [`supporting`] puts in its place.
+const FACE_COS: f64 = 0.9998;
+
+/// The plane through the contact point `p0` to certify a step with,
+/// against an obstacle's part at `pose`: its normal, and how far the part
+/// rises above it (the plane is raised by that much). The contact normal
+/// `n` serves when the part rises at most 1e-10 m above its plane (a
+/// tenth of the event skin: the steps hardly shorten, and a body on a
+/// face of a hull meets the same certificates as on a half-space). For a
+/// contact that touches (a gap of 1e-15 m) it need not: the normal is the
+/// direction of a gap of round-off, off by up to 1e-2 rad, and the part
+/// then rises above the plane by that tilt times its extent (2e-3 m on
+/// the coatrack's base), so raising the plane would stall the search. A
+/// face of the part within 0.02 rad of `n` whose plane holds the part
+/// with less rising takes its place (the contact is on that face).
+fn supporting(part: &Part, pose: &Isometry3<f64>, n: Vec3, p0: &Vec3) -> (Vec3, f64) {
+    let PartKind::Convex {
+        vertices, faces, ..
+    } = &part.kind
+    else {
+        return (n, 0.0);
+    };
+    let w = pose * part.offset;
+    let base = w.translation.vector - p0;
+    let top = |m: &Vec3| {
+        let (ml, b) = (w.rotation.inverse() * m, m.dot(&base));
+        vertices.iter().map(|v| b + ml.dot(v)).fold(0.0, f64::max)
+    };
+    let rise = top(&n);
+    if rise <= 1e-10 {
+        return (n, rise);
+    }
+    faces
+        .iter()
+        .map(|(f, _)| w.rotation * f)
+        .filter(|m| m.dot(&n) >= FACE_COS)
+        .map(|m| (m, top(&m)))
+        .fold((n, rise), |best, c| if c.1 < best.1 { c } else { best })
 }
