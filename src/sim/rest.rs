@@ -9,7 +9,8 @@
 //! hop is lower than `h = HOP · reach` (3e-5 of the body's size: invisible,
 //! and hops below it would only cost events). A *support point* is a
 //! corner of a contact patch (a body vertex, an obstacle vertex, an edge
-//! crossing, or a ball's lowest point; see [`near_points`]) within the band
+//! crossing, or a ball's lowest point; see
+//! [`crate::geometry::near_points`]) within the band
 //! `δ = 10 v_r² / |g|` (plus the event skin) of an obstacle's surface: a
 //! body whose points all move slower than `v_r` cannot rock higher than
 //! about `v_r² / 2g`, so every corner of the patch it lies on is inside the
@@ -78,7 +79,7 @@ use super::dynamics::BodyDynamics;
 use super::roll::Roll;
 use super::state::BodyState;
 use super::statics::{self, Support};
-use crate::geometry::{NearPoint, PartKind, near_points};
+use crate::geometry::{NearPoint, PartKind};
 use crate::math::{Mat3, Vec3, plane_basis};
 use crate::scene::Scene;
 pub use face::FaceSlide;
@@ -209,19 +210,13 @@ pub(crate) fn supports(
     s: &BodyState,
     band: f64,
 ) -> Vec<NearPoint> {
-    let pose = s.pose();
-    let o = &scene.obstacles[obstacle];
-    near_points(
-        &scene.bodies[body].geometry,
-        &pose,
-        &o.geometry,
-        &o.pose,
-        band,
-    )
+    supports_on_parts(scene, body, obstacle, s, band)
+        .into_iter()
+        .map(|(_, q)| q)
+        .collect()
 }
 
-/// [`supports`] with the part of the obstacle each lies on, in the same
-/// order.
+/// [`supports`] with the part of the obstacle each lies on.
 pub(crate) fn supports_on_parts(
     scene: &Scene,
     body: usize,
