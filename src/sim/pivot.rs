@@ -357,7 +357,8 @@ impl Pivot {
         };
         // Heights are from the line's point; leaning, the surfaces' own
         // planes are at `level` from it along their normals.
-        let level = p.lean.map_or(0.0, |l| l.planes[0] - n.dot(&point));
+        let levels = p.lean.map(|l| l.levels(&n, &point));
+        let level = levels.map_or(0.0, |[first, _]| first);
         let start_low = low(&n, level);
         if start_low < -tol {
             return None;
@@ -365,9 +366,8 @@ impl Pivot {
         let floor = start_low.min(0.0) + level;
         let landing = Landing::new(&axis, &n, &off, floor);
         // Leaning, the far end's surface is a second plane to land on.
-        let second = match p.lean {
-            Some(l) => {
-                let level = l.planes[1] - l.normal.dot(&point);
+        let second = match p.lean.zip(levels) {
+            Some((l, [_, level])) => {
                 let start_low = low(&l.normal, level);
                 if start_low < -tol {
                     return None;
@@ -540,15 +540,7 @@ impl Pivot {
         let n = self.normal;
         let scale = 1e-9 * d.mass * g.norm();
         if let Some(l) = self.lean {
-            return lean::fails(&f, &m, &a, self.length, [&n, &l.normal], friction, scale).map(
-                |lifts| {
-                    if lifts {
-                        PivotEnd::LiftsOff
-                    } else {
-                        PivotEnd::Slips
-                    }
-                },
-            );
+            return lean::fails(&f, &m, &a, self.length, [&n, &l.normal], friction, scale);
         }
         let fn_total = f.dot(&n);
         let n2 = m.dot(&a.cross(&n)) / self.length;

@@ -47,15 +47,16 @@ impl Pivot {
         let Some(lean) = self.lean else {
             return Self::clear_of(&self.point, &self.axis, &self.normal, p, &swept.0);
         };
+        let levels = lean.levels(&self.normal, &self.point);
         let first = On {
             part: p.part,
             other: Some(lean.part),
-            level: lean.planes[0] - self.normal.dot(&self.point),
+            level: levels[0],
         };
         let far = On {
             part: lean.part,
             other: Some(p.part),
-            level: lean.planes[1] - lean.normal.dot(&self.point),
+            level: levels[1],
         };
         let verdicts = [
             Self::clear_on(&self.point, &self.axis, &self.normal, p, &first, &swept.0),

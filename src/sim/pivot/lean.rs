@@ -29,6 +29,7 @@
 //! one face. While it leans, the obstacle's pair is searched without the
 //! two parts it leans on (or not at all when nothing else comes near).
 
+use super::PivotEnd;
 use crate::math::Vec3;
 
 /// The second end of a hinge whose ends touch surfaces with different
@@ -41,6 +42,17 @@ pub struct Lean {
     pub part: usize,
     pub normal: Vec3,
     pub planes: [f64; 2],
+}
+
+impl Lean {
+    /// Where both surfaces' planes are along their normals from `point`
+    /// (`first`: the first surface's normal), m.
+    pub(super) fn levels(&self, first: &Vec3, point: &Vec3) -> [f64; 2] {
+        [
+            self.planes[0] - first.dot(point),
+            self.planes[1] - self.normal.dot(point),
+        ]
+    }
 }
 
 /// The interval of `β` (possibly empty: `lo > hi`) for which `c + β e`
@@ -98,9 +110,9 @@ fn cone_interval(c: &Vec3, e: &Vec3, n: &Vec3, mu: f64, tol: f64) -> (f64, f64) 
 
 /// Why a leaning hinge stops holding, if it does: `None` while forces at
 /// the ends inside their cones supply `force` and `moment` (about the
-/// first end; see the module notes), `Some(true)` when it lifts off (no
-/// squeeze keeps both normal forces non-negative), `Some(false)` when it
-/// slips.
+/// first end; see the module notes), [`PivotEnd::LiftsOff`] when no
+/// squeeze keeps both normal forces non-negative, [`PivotEnd::Slips`]
+/// otherwise.
 pub(super) fn fails(
     force: &Vec3,
     moment: &Vec3,
@@ -109,7 +121,7 @@ pub(super) fn fails(
     normals: [&Vec3; 2],
     mu: f64,
     tol: f64,
-) -> Option<bool> {
+) -> Option<PivotEnd> {
     let a = *axis;
     let m_perp = moment - a * a.dot(moment);
     let f2 = (m_perp / length).cross(&a);
@@ -122,7 +134,11 @@ pub(super) fn fails(
     // Without the cones' sides: only the normal forces' signs.
     let (lo1, hi1) = cone_interval(&f1, &(-a), normals[0], 1e12, tol);
     let (lo2, hi2) = cone_interval(&f2, &a, normals[1], 1e12, tol);
-    Some(lo1.max(lo2) > hi1.min(hi2))
+    Some(if lo1.max(lo2) > hi1.min(hi2) {
+        PivotEnd::LiftsOff
+    } else {
+        PivotEnd::Slips
+    })
 }
 
 #[cfg(test)]
@@ -205,13 +221,13 @@ mod tests {
         );
         assert_eq!(
             fails(&force, &moment, &axis, 1.0, normals, 0.2, 1e-12),
-            Some(false)
+            Some(PivotEnd::Slips)
         );
         // Pulled off the floor: it lifts off.
         let pull = Vec3::new(1.0, 0.0, -1.0);
         assert_eq!(
             fails(&pull, &Vec3::zeros(), &axis, 1.0, normals, 1.0, 1e-12),
-            Some(true)
+            Some(PivotEnd::LiftsOff)
         );
     }
 }
