@@ -73,3 +73,4 @@ pub(crate) struct World<'a, 'g> {
 mod bounds;
 mod planes;
 mod search;
+mod sinking;

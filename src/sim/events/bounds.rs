@@ -429,7 +429,7 @@ impl World<'_, '_> {
 
 /// Cosine of the widest angle, 0.02 rad, between a contact's normal and a
 /// face of the obstacle's part that [`supporting`] puts in its place.
-const FACE_COS: f64 = 0.9998;
+pub(super) const FACE_COS: f64 = 0.9998;
 
 /// The plane through the contact point `p0` to certify a step with,
 /// against an obstacle's part at `pose`: its normal, and how far the part

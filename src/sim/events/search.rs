@@ -17,6 +17,15 @@ impl World<'_, '_> {
         self.contact_with(pair, &sa, &sb, max_distance)
     }
 
+    /// [`World::contact`] taken at a sinking corner when its witness does
+    /// not approach (`events::sinking`), for the search.
+    fn contact_sinking(&self, pair: &Pair, t: f64, slack: f64) -> Option<(Contact, f64)> {
+        let sa = self.state(Party::Body(pair.a), t);
+        let sb = self.state(pair.b, t);
+        let found = self.contact_with(pair, &sa, &sb, f64::INFINITY)?;
+        Some(self.sinking(pair, &sa, found, slack))
+    }
+
     /// Every part pair's contact within `max_distance` (one contact query).
     pub(super) fn part_contacts_at(
         &self,
@@ -126,7 +135,7 @@ impl World<'_, '_> {
         let mut t = hi;
         let mut best: Option<(f64, Contact)> = None;
         for _ in 0..200 {
-            let (c, rate) = self.contact(pair, t, f64::INFINITY)?;
+            let (c, rate) = self.contact_sinking(pair, t, 10.0 * tol)?;
             let e = c.distance + skin;
             if e.abs() <= tol {
                 return Some((t, c));
@@ -147,7 +156,10 @@ impl World<'_, '_> {
                 0.5 * (lo + hi)
             };
         }
-        best.or_else(|| self.contact(pair, hi, f64::INFINITY).map(|(c, _)| (hi, c)))
+        best.or_else(|| {
+            self.contact_sinking(pair, hi, 10.0 * tol)
+                .map(|(c, _)| (hi, c))
+        })
     }
 
     /// The first time in `[t0, t1]` at which the pair's event function
@@ -193,8 +205,15 @@ impl World<'_, '_> {
             // One query serves both the closest contact and the
             // separating planes of every part pair.
             let planes = self.part_contacts_at(pair, &sa, &sb, reach);
-            let Some((c, rate)) = Self::closest(&planes, &sa, &sb) else {
+            let Some(found) = Self::closest(&planes, &sa, &sb) else {
                 return Ok(None);
+            };
+            // (A witness within ten arm distances: the contact query's gap
+            // is off by a few 1e-9 m where a face lies nearly flush.)
+            let (c, rate) = if found.0.distance <= 10.0 * tol.arm {
+                self.sinking(pair, &sa, found, hit)
+            } else {
+                found
             };
             if c.distance > tol.arm {
                 // Separated by more than the arm distance: the event is armed
@@ -221,7 +240,7 @@ impl World<'_, '_> {
                 let tn = t - e / rate;
                 if tn > t
                     && tn <= t1
-                    && let Some((cn, rate_n)) = self.contact(pair, tn, f64::INFINITY)
+                    && let Some((cn, rate_n)) = self.contact_sinking(pair, tn, hit)
                 {
                     let en = cn.distance + skin;
                     if en <= 0.0 {
