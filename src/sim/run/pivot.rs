@@ -88,6 +88,7 @@ impl Sim<'_> {
             post: *post,
             friction,
             horizon: self.traj.duration - tc,
+            band,
             v_rest,
             lean: lean.map(|(.., l)| l),
         };
