@@ -15,9 +15,39 @@
 
 use super::bounds::FACE_COS;
 use super::{Pair, World};
-use crate::geometry::{Contact, PartKind, flat_faces};
+use crate::geometry::{Contact, Part, PartKind, flat_faces};
+use crate::math::Vec3;
 use crate::sim::state::BodyState;
 use crate::sim::trajectory::Party;
+use nalgebra::Isometry3;
+
+/// How much deeper than an approaching witness a corner must lie to take
+/// its place, m: a vertex witness's own height differs by round-off.
+const DEEPER: f64 = 1e-12;
+
+/// The plane (unit normal, world, and offset: `m · p = offset`) of the face
+/// of `part` at `pose` nearest to `n`, within `FACE_COS`.
+fn plane(part: &Part, pose: &Isometry3<f64>, n: &Vec3) -> Option<(Vec3, f64)> {
+    let w = pose * part.offset;
+    match &part.kind {
+        PartKind::HalfSpace { normal } => {
+            let m = w.rotation * normal;
+            (m.dot(n) >= FACE_COS).then(|| (m, m.dot(&w.translation.vector)))
+        }
+        PartKind::Convex {
+            vertices, faces, ..
+        } => faces
+            .iter()
+            .map(|(f, corners)| (w.rotation * f, corners))
+            .filter(|(m, _)| m.dot(n) >= FACE_COS)
+            .max_by(|x, y| x.0.dot(n).total_cmp(&y.0.dot(n)))
+            .and_then(|(m, corners)| {
+                let v = vertices.get(*corners.first()?)?;
+                Some((m, m.dot(&(w * nalgebra::Point3::from(*v)).coords)))
+            }),
+        _ => None,
+    }
+}
 
 impl World<'_, '_> {
     /// `c` (with `rate`, its witness's relative normal speed) at its body
@@ -42,7 +72,25 @@ impl World<'_, '_> {
         else {
             return (c, rate);
         };
-        if !matches!(part_a.kind, PartKind::Convex { .. }) {
+        let PartKind::Convex { vertices, .. } = &part_a.kind else {
+            return (c, rate);
+        };
+        // Most queries end here, before the face's polygon is built: no
+        // corner approaches as deep as the witness on the face's plane, or
+        // the witness approaches and none is deeper.
+        let Some((m, offset)) = plane(part_b, &ob.pose, &c.normal) else {
+            return (c, rate);
+        };
+        let world = s.pose() * part_a.offset;
+        let deepest = vertices
+            .iter()
+            .map(|v| (world * nalgebra::Point3::from(*v)).coords)
+            .map(|p| (m.dot(&p) - offset, p))
+            .filter(|(h, _)| *h <= c.distance + slack)
+            .filter(|(_, p)| m.dot(&s.velocity_at(p)) < 0.0)
+            .map(|(h, _)| h)
+            .fold(f64::INFINITY, f64::min);
+        if !(deepest < c.distance - DEEPER || (rate >= 0.0 && deepest.is_finite())) {
             return (c, rate);
         }
         let Some(face) = flat_faces(part_b, &ob.pose, &c.normal, FACE_COS)
@@ -63,7 +111,7 @@ impl World<'_, '_> {
             .min_by(|x, y| x.0.total_cmp(&y.0));
         match deepest {
             // Deeper than the witness, or the witness does not approach.
-            Some((h, p, r)) if h < c.distance || rate >= 0.0 => (
+            Some((h, p, r)) if h < c.distance - DEEPER || rate >= 0.0 => (
                 Contact {
                     distance: h,
                     normal: m,
