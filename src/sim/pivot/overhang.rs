@@ -7,7 +7,8 @@
 //! unbounded (`sim::pivot`), so a point already below that plane would
 //! land at once and the body stayed in micro-collisions at the edge. But
 //! a part that hangs clear of the obstacle's part turned on, farther than
-//! the support band from it, touches it nowhere: its points are left out
+//! the support band (and [`CLEAR`] of the body's reach) from it, touches
+//! it nowhere: its points are left out
 //! of the plane's landing, and instead that part is searched against the
 //! part turned on like any other part of the obstacle (the pair is
 //! searched while the body pivots: [`super::Pivot::beside`]). A point
@@ -17,6 +18,14 @@
 use super::PivotStart;
 use crate::geometry::part_contacts;
 use crate::math::Vec3;
+
+/// How far a hanging part must be from the part turned on, as a fraction
+/// of the body's reach (and at least the support band). A part closer
+/// than that hangs at the face's edge, where the search crawls in steps
+/// the size of its gap: a scissors blade 0.1 mm below the coatrack base's
+/// edge took 11,000 contact queries in one 19 ms hinge, four times the
+/// micro-collisions it replaced.
+const CLEAR: f64 = 1e-3;
 
 /// A point off the line: its part, body offset, radius, and offset from
 /// the line's point (world).
@@ -53,7 +62,7 @@ pub(super) fn take(
         &p.post.pose(),
         &o.geometry,
         &o.pose,
-        p.band,
+        p.band.max(CLEAR * p.dynamics.reach),
     );
     let touches = |k: &usize| near.iter().any(|c| c.part_a == *k && c.part_b == p.part);
     if parts.iter().any(touches) {
