@@ -17,8 +17,9 @@ impl World<'_, '_> {
         self.contact_with(pair, &sa, &sb, max_distance)
     }
 
-    /// [`World::contact`] taken at a sinking corner when its witness does
-    /// not approach (`events::sinking`), for the search.
+    /// [`World::contact`] taken at a sinking corner deeper than its
+    /// witness, or when the witness does not approach (`events::sinking`),
+    /// for the search.
     fn contact_sinking(&self, pair: &Pair, t: f64, slack: f64) -> Option<(Contact, f64)> {
         let sa = self.state(Party::Body(pair.a), t);
         let sb = self.state(pair.b, t);

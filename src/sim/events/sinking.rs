@@ -7,11 +7,14 @@
 //! after it the far corners still sink at 0.28 m/s while the witness, on
 //! the near edge, rises. The search, trusting the witness, let the far
 //! corners sink 4.6e-9 m (the skin is 1e-9 m) before another query's
-//! witness moved to them. So a contact whose witness does not approach is
-//! taken instead at the body part's deepest corner over the obstacle's
-//! face that does approach, when there is one as deep as the witness: the
-//! search then finds its impact at the skin, and the impulse is applied
-//! where that corner touches (its contact point is the corner).
+//! witness moved to them. And where an edge lies nearly flush, the query's
+//! gap itself can be off: 5e-10 m reported while one end is 1.7e-9 m
+//! inside. So a contact is taken instead at the body part's deepest
+//! corner over the obstacle's face that approaches, when that corner is
+//! deeper than the witness, or as deep (within a slack) while the witness
+//! does not approach: the search then finds its impact at the skin, and
+//! the impulse is applied where that corner touches (its contact point is
+//! the corner).
 
 use super::bounds::FACE_COS;
 use super::{Pair, World};
@@ -20,6 +23,7 @@ use crate::math::Vec3;
 use crate::sim::state::BodyState;
 use crate::sim::trajectory::Party;
 use nalgebra::Isometry3;
+use smallvec::SmallVec;
 
 /// How much deeper than an approaching witness a corner must lie to take
 /// its place, m: a vertex witness's own height differs by round-off.
@@ -51,10 +55,11 @@ fn plane(part: &Part, pose: &Isometry3<f64>, n: &Vec3) -> Option<(Vec3, f64)> {
 
 impl World<'_, '_> {
     /// `c` (with `rate`, its witness's relative normal speed) at its body
-    /// part's deepest corner that approaches the obstacle's face there, if
-    /// the witness does not approach and that corner lies over the face no
-    /// more than `slack` m above the witness's distance. Against a body, or
-    /// a part without a face along the normal, `c` itself.
+    /// part's deepest corner over the obstacle's face there that
+    /// approaches it, no more than `slack` m above the witness's distance,
+    /// if that corner is deeper than the witness or the witness does not
+    /// approach. Against a body, or a part without a face along the
+    /// normal, `c` itself.
     pub(super) fn sinking(
         &self,
         pair: &Pair,
@@ -75,43 +80,40 @@ impl World<'_, '_> {
         let PartKind::Convex { vertices, .. } = &part_a.kind else {
             return (c, rate);
         };
-        // Most queries end here, before the face's polygon is built: no
+        // Most queries end below, before the face's polygon is built: no
         // corner approaches as deep as the witness on the face's plane, or
         // the witness approaches and none is deeper.
         let Some((m, offset)) = plane(part_b, &ob.pose, &c.normal) else {
             return (c, rate);
         };
         let world = s.pose() * part_a.offset;
-        let deepest = vertices
+        let sinking: SmallVec<[(f64, Vec3, f64); 16]> = vertices
             .iter()
             .map(|v| (world * nalgebra::Point3::from(*v)).coords)
             .map(|p| (m.dot(&p) - offset, p))
             .filter(|(h, _)| *h <= c.distance + slack)
-            .filter(|(_, p)| m.dot(&s.velocity_at(p)) < 0.0)
-            .map(|(h, _)| h)
-            .fold(f64::INFINITY, f64::min);
-        if !(deepest < c.distance - DEEPER || (rate >= 0.0 && deepest.is_finite())) {
+            .map(|(h, p)| (h, p, m.dot(&s.velocity_at(&p))))
+            .filter(|(.., r)| *r < 0.0)
+            .collect();
+        // Deeper than the witness, or the witness does not approach.
+        let takes = |h: f64| h < c.distance - DEEPER || rate >= 0.0;
+        if !sinking.iter().any(|(h, ..)| takes(*h)) {
             return (c, rate);
         }
+        // Only a corner over the face touches it (the polygon, built here
+        // only, is of the same face as the plane).
         let Some(face) = flat_faces(part_b, &ob.pose, &c.normal, FACE_COS)
             .into_iter()
             .max_by(|x, y| x.normal.dot(&c.normal).total_cmp(&y.normal.dot(&c.normal)))
         else {
             return (c, rate);
         };
-        let m = face.normal;
-        let deepest = part_a
-            .vertices()
+        let deepest = sinking
             .into_iter()
-            .map(|v| s.point(&v))
-            .map(|p| (m.dot(&p) - face.offset, p))
-            .filter(|(h, p)| *h <= c.distance + slack && face.depth(p) >= 0.0)
-            .map(|(h, p)| (h, p, m.dot(&s.velocity_at(&p))))
-            .filter(|(.., r)| *r < 0.0)
+            .filter(|(_, p, _)| face.depth(p) >= 0.0)
             .min_by(|x, y| x.0.total_cmp(&y.0));
         match deepest {
-            // Deeper than the witness, or the witness does not approach.
-            Some((h, p, r)) if h < c.distance - DEEPER || rate >= 0.0 => (
+            Some((h, p, r)) if takes(h) => (
                 Contact {
                     distance: h,
                     normal: m,
