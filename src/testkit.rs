@@ -52,6 +52,47 @@ pub fn energy(tr: &crate::sim::Trajectory, body: usize, t: f64) -> f64 {
     0.5 * (d.mass * s.v.norm_squared() + s.w.dot(&(ic * s.w))) - d.mass * tr.gravity.dot(&s.x)
 }
 
+/// The smallest signed distance (m) between any body and any obstacle
+/// over a motion: sampled at `n + 1` evenly spaced times and on both sides
+/// of every event.
+pub fn lowest_gap(scene: &Scene, tr: &crate::sim::Trajectory, n: usize) -> f64 {
+    let gap = |b: usize, t: f64, side: crate::sim::Side| {
+        let pose = tr.state(b, t, side).pose();
+        scene
+            .obstacles
+            .iter()
+            .filter_map(|o| {
+                crate::geometry::contact(
+                    &scene.bodies[b].geometry,
+                    &pose,
+                    &o.geometry,
+                    &o.pose,
+                    f64::INFINITY,
+                )
+            })
+            .map(|c| c.distance)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut low = f64::INFINITY;
+    for b in 0..scene.bodies.len() {
+        for k in 0..=n {
+            low = low.min(gap(
+                b,
+                scene.duration * k as f64 / n as f64,
+                crate::sim::Side::Post,
+            ));
+        }
+        for e in tr.body_events(b) {
+            low = low.min(gap(b, e.t, crate::sim::Side::Pre)).min(gap(
+                b,
+                e.t,
+                crate::sim::Side::Post,
+            ));
+        }
+    }
+    low
+}
+
 /// A body with the given geometry and density 1000 kg/m³, inertia from the shape.
 pub fn body(name: &str, geometry: Geometry, position: Vec3) -> Body {
     let props = geometry

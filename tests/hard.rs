@@ -56,40 +56,6 @@ fn points(scene: &Scene, b: usize) -> Vec<(Vec3, f64)> {
     out
 }
 
-/// The smallest signed distance between any body and any obstacle (the
-/// height above the floor, for a floor): sampled at `n` times and just
-/// before and after every event.
-fn lowest_over_run(scene: &Scene, tr: &Trajectory, n: usize) -> f64 {
-    let gap = |b: usize, t: f64, side: Side| {
-        let s = tr.state(b, t, side);
-        let pose = nalgebra::Isometry3::from_parts(nalgebra::Translation3::from(s.x), s.q);
-        scene
-            .obstacles
-            .iter()
-            .filter_map(|o| {
-                nudge::geometry::contact(
-                    &scene.bodies[b].geometry,
-                    &pose,
-                    &o.geometry,
-                    &o.pose,
-                    f64::INFINITY,
-                )
-            })
-            .map(|c| c.distance)
-            .fold(f64::INFINITY, f64::min)
-    };
-    let mut low = f64::INFINITY;
-    for b in 0..scene.bodies.len() {
-        for k in 0..=n {
-            low = low.min(gap(b, scene.duration * k as f64 / n as f64, Side::Post));
-        }
-        for e in tr.body_events(b) {
-            low = low.min(gap(b, e.t, Side::Pre)).min(gap(b, e.t, Side::Post));
-        }
-    }
-    low
-}
-
 /// Whether the vertical through `c` meets the convex hull of `pts`
 /// (projected on the floor), within `tol` (m).
 fn over_support(pts: &[Vec3], c: &Vec3, tol: f64) -> bool {

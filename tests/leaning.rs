@@ -131,7 +131,7 @@ fn a_rod_leaning_into_a_corner_rolls_about_its_supports_and_rests() {
 #[test]
 fn a_leaning_rod_never_enters_the_floor_or_the_wall() {
     let s = rod_in_corner(0.2);
-    let low = deepest(&s, &run(&s, &SimOptions::default()));
+    let low = testkit::lowest_gap(&s, &run(&s, &SimOptions::default()), 1000);
     // The event skin (1e-9 m: a pair just struck may sink that far before
     // it is struck again) and a little more. 5e-8 s after the rod's end
     // edge strikes the wall, the contact query reports the pair 5e-10 m
@@ -143,25 +143,6 @@ fn a_leaning_rod_never_enters_the_floor_or_the_wall() {
         low > -1.5e-9,
         "the rod reaches {low:.3e} m into the obstacle"
     );
-}
-
-/// The rod's least gap to the obstacle, m, sampled every millisecond and
-/// on both sides of every event.
-fn deepest(s: &Scene, tr: &Trajectory) -> f64 {
-    let o = &s.obstacles[0];
-    let gap = |t: f64, side: Side| {
-        let st = tr.state(0, t, side);
-        nudge::geometry::contact(&s.bodies[0].geometry, &st.pose(), &o.geometry, &o.pose, 1.0)
-            .map_or(f64::INFINITY, |c| c.distance)
-    };
-    let mut low = f64::INFINITY;
-    for k in 0..=1000 {
-        low = low.min(gap(s.duration * f64::from(k) / 1000.0, Side::Post));
-    }
-    for e in &tr.events {
-        low = low.min(gap(e.t, Side::Pre)).min(gap(e.t, Side::Post));
-    }
-    low
 }
 
 /// Rods leaning at 45 pitches, yaws and frictions: every run finishes,
@@ -181,7 +162,7 @@ fn leaning_rods_across_pitches_yaws_and_frictions_stay_out_of_the_corner() {
                 let s = leaning_rod(yaw, pitch, mu);
                 let tr = simulate(&s, &Controls::new(&s), &SimOptions::without_tangents())
                     .unwrap_or_else(|e| panic!("pitch {pitch} yaw {yaw} mu {mu}: {e}"));
-                let low = deepest(&s, &tr);
+                let low = testkit::lowest_gap(&s, &tr, 1000);
                 assert!(
                     low > -1.5e-9,
                     "pitch {pitch} yaw {yaw} mu {mu}: the rod reaches {low:.3e} m in"

@@ -68,25 +68,6 @@ fn hinges(tr: &Trajectory) -> Vec<(f64, &Pivot)> {
         .collect()
 }
 
-/// The least gap between the body and the table, m, sampled every
-/// millisecond and on both sides of every event.
-fn deepest(s: &Scene, tr: &Trajectory) -> f64 {
-    let o = &s.obstacles[1];
-    let gap = |t: f64, side: Side| {
-        let st = tr.state(0, t, side);
-        nudge::geometry::contact(&s.bodies[0].geometry, &st.pose(), &o.geometry, &o.pose, 1.0)
-            .map_or(f64::INFINITY, |c| c.distance)
-    };
-    let mut low = f64::INFINITY;
-    for k in 0..=600 {
-        low = low.min(gap(s.duration * f64::from(k) / 600.0, Side::Post));
-    }
-    for e in &tr.events {
-        low = low.min(gap(e.t, Side::Pre)).min(gap(e.t, Side::Post));
-    }
-    low
-}
-
 /// The plate lands on its end edge and rolls down onto its face as a
 /// hinge, the block hanging 2 cm below the top's plane beyond the edge:
 /// it lands, energy is kept while it turns, it never enters the table,
@@ -114,7 +95,7 @@ fn a_plate_with_a_block_hanging_over_the_edge_rolls_onto_its_face_as_a_hinge() {
             e - e0
         );
     }
-    let low = deepest(&s, &tr);
+    let low = testkit::lowest_gap(&s, &tr, 600);
     assert!(
         low > -1.5e-9,
         "the plate reaches {low:.3e} m into the table"
@@ -179,7 +160,7 @@ fn a_hanging_block_that_swings_into_the_tables_side_ends_the_hinge() {
         .find(|e| e.t > t0 && e.t <= end + 1e-12)
         .unwrap_or_else(|| panic!("no impact ends the hinge: {:?}", tr.signature()));
     assert!(hit.key.starts_with("1:"), "the hinge ends at {}", hit.key);
-    let low = deepest(&s, &tr);
+    let low = testkit::lowest_gap(&s, &tr, 600);
     assert!(
         low > -1.5e-9,
         "the plate reaches {low:.3e} m into the table"

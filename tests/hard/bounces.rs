@@ -37,7 +37,7 @@ fn zeno_bouncing_ends_at_rest_at_the_series_limit() {
             "e={e}: rest at {rest_time}, limit {limit}"
         );
         assert!(tr.events[rest].t <= limit);
-        let low = lowest_over_run(&s, &tr, 20_000);
+        let low = nudge::testkit::lowest_gap(&s, &tr, 20_000);
         assert!(low >= -1e-9, "e={e}: height {low:.3e}");
         let end = tr.state(0, s.duration, Side::Post);
         assert!(end.v == Vec3::zeros() && (end.x.z - 0.1).abs() < 1e-9);

@@ -14,7 +14,7 @@ fn regression_bodies_sank_through_the_floor_when_the_event_search_gave_up() {
     for name in ["mug.toml", "scissors.toml", "plank.toml", "eggs.toml"] {
         let s = paper(name);
         let tr = run_ok(&s);
-        let low = lowest_over_run(&s, &tr, 600);
+        let low = nudge::testkit::lowest_gap(&s, &tr, 600);
         assert!(
             low > -SKIN,
             "{name}: a body reaches {low:.3e} m below the floor"
@@ -31,7 +31,7 @@ fn regression_bodies_sank_through_the_floor_when_the_event_search_gave_up() {
     for path in paths {
         let s = nudge::scene::load(&path).unwrap();
         let tr = run_ok(&s);
-        let low = lowest_over_run(&s, &tr, 600);
+        let low = nudge::testkit::lowest_gap(&s, &tr, 600);
         assert!(
             low > -SKIN,
             "{}: a body reaches {low:.3e} m below the floor",
@@ -45,7 +45,7 @@ fn regression_bodies_sank_through_the_floor_when_the_event_search_gave_up() {
         let mut s = paper(name);
         s.rest_speed = 0.0;
         match run(&s) {
-            Ok(tr) => assert!(lowest_over_run(&s, &tr, 600) > -SKIN, "{name}"),
+            Ok(tr) => assert!(nudge::testkit::lowest_gap(&s, &tr, 600) > -SKIN, "{name}"),
             Err(e @ SimError::EventSearchStalled { .. }) => {
                 assert!(e.to_string().contains("raise rest_speed"), "{e}")
             }
@@ -119,7 +119,7 @@ fn regression_rest_froze_a_falling_body_against_a_wall() {
         "the box ends on the floor, not at z = {:.4}",
         end.x.z
     );
-    assert!(lowest_over_run(&s, &tr, 300) > -SKIN);
+    assert!(nudge::testkit::lowest_gap(&s, &tr, 300) > -SKIN);
 }
 
 /// A box landing on an edge rocks onto its face. It must settle on the
@@ -136,7 +136,7 @@ fn regression_a_rocking_box_chattered_or_froze_on_an_edge() {
         .find(|e| e.slide.is_some())
         .expect("the box settles into a slide");
     assert!(tr.events.len() < 2000, "{} events", tr.events.len());
-    assert!(lowest_over_run(&s, &tr, 400) > -SKIN);
+    assert!(nudge::testkit::lowest_gap(&s, &tr, 400) > -SKIN);
     let last = tr.state(0, s.duration, Side::Post);
     assert!(
         (last.x.z - 0.04).abs() < 1e-4,
@@ -254,7 +254,7 @@ fn regression_crossing_edges_separating_slowly_made_the_event_search_creep() {
     );
     let queries = tr.counters.collisions.get();
     assert!(queries < 300, "{queries} contact queries");
-    assert!(lowest_over_run(&s, &tr, 400) > -SKIN);
+    assert!(nudge::testkit::lowest_gap(&s, &tr, 400) > -SKIN);
 }
 
 // ---------------------------------------------------------------------------
@@ -285,5 +285,5 @@ fn regression_a_body_creeping_against_an_obstacle_stalled_the_event_search() {
     );
     let queries = tr.counters.collisions.get();
     assert!(queries < 5_000, "{queries} contact queries");
-    assert!(lowest_over_run(&s, &tr, 600) > -SKIN);
+    assert!(nudge::testkit::lowest_gap(&s, &tr, 600) > -SKIN);
 }

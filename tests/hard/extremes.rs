@@ -111,7 +111,7 @@ fn regression_a_near_singular_inertia_blew_up_after_its_first_impact() {
             worst < 1e-6,
             "adaptive={adaptive}: energy/|L| drift in flight {worst:.2e}"
         );
-        assert!(lowest_over_run(&s, &tr, 500) > -SKIN);
+        assert!(nudge::testkit::lowest_gap(&s, &tr, 500) > -SKIN);
         let peak = tr
             .body_events(b)
             .iter()
@@ -167,7 +167,7 @@ fn regression_an_inelastic_rocking_edge_let_a_vertex_sink() {
     s.bodies[0].restitution = 0.0;
     s.duration = 3.0;
     let tr = run_ok(&s);
-    let low = lowest_over_run(&s, &tr, 3000);
+    let low = nudge::testkit::lowest_gap(&s, &tr, 3000);
     assert!(low > -SKIN, "a vertex reaches {low:.2e} m below the floor");
 }
 
@@ -226,7 +226,7 @@ fn restitution_zero_and_one_a_long_horizon_and_a_micron_body_simulate_correctly(
         rest.rest_time.unwrap(),
         3.0 * t0
     );
-    assert!(lowest_over_run(&s, &tr, 1000) > -1e-12);
+    assert!(nudge::testkit::lowest_gap(&s, &tr, 1000) > -1e-12);
 }
 
 // ---------------------------------------------------------------------------

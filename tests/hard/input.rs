@@ -436,7 +436,7 @@ fn regression_a_plank_lying_across_two_supports_never_came_to_rest() {
         "lying on the supports: z = {}, tilted {tilt:.3}°",
         end.x.z
     );
-    assert!(lowest_over_run(&s, &tr, 400) > -SKIN);
+    assert!(nudge::testkit::lowest_gap(&s, &tr, 400) > -SKIN);
 }
 
 /// The rest rule only counted support points whose normals lay in the
@@ -481,5 +481,5 @@ fn regression_a_ladder_held_by_friction_chattered_against_the_wall() {
         tr.events.iter().all(|e| !e.rest),
         "never at rest while sliding"
     );
-    assert!(lowest_over_run(&s, &tr, 400) > -SKIN);
+    assert!(nudge::testkit::lowest_gap(&s, &tr, 400) > -SKIN);
 }
