@@ -183,23 +183,15 @@ impl<'g> Placement<'g> {
         }
     }
 
-    /// This placement with each part for which `keeps` is false no longer
-    /// paired with the other placement's parts `theirs` (by index): a body
-    /// pivoting or sliding on an obstacle's part is not searched against
-    /// it, except with the parts of it that hang clear of that part
-    /// (`sim::pivot`).
-    pub fn avoiding(&self, keeps: impl Fn(usize) -> bool, theirs: &[usize]) -> Placement<'g> {
+    /// This placement without the parts `parts` (the others keep their
+    /// indices): a body pivoting on them is not searched against them.
+    pub fn without(&self, parts: &[usize]) -> Placement<'g> {
         Placement {
             parts: self
                 .parts
                 .iter()
-                .map(|p| {
-                    let mut p = p.clone();
-                    if !keeps(p.index) {
-                        p.avoid.extend_from_slice(theirs);
-                    }
-                    p
-                })
+                .filter(|p| !parts.contains(&p.index))
+                .cloned()
                 .collect(),
         }
     }
@@ -209,8 +201,7 @@ impl<'g> Placement<'g> {
         let mut out = PartContacts::new();
         for x in &self.parts {
             for y in &b.parts {
-                if !x.avoids(y)
-                    && !x.beyond(y, max_distance)
+                if !x.beyond(y, max_distance)
                     && let Some(c) = x.contact(y, max_distance)
                 {
                     out.push(c);
@@ -225,7 +216,7 @@ impl<'g> Placement<'g> {
         let (pa, pb) = (&self.parts, &b.parts);
         if let ([x], [y]) = (pa.as_slice(), pb.as_slice()) {
             // One part pair: nothing to order.
-            return (!x.avoids(y) && !x.beyond(y, max_distance))
+            return (!x.beyond(y, max_distance))
                 .then(|| x.contact(y, max_distance))
                 .flatten();
         }
@@ -236,7 +227,6 @@ impl<'g> Placement<'g> {
         // first in part order wins.
         let mut pairs: SmallVec<[(f64, (usize, usize)); 16]> = (0..pa.len())
             .flat_map(|ia| (0..pb.len()).map(move |ib| (ia, ib)))
-            .filter(|&(ia, ib)| !pa[ia].avoids(&pb[ib]))
             .map(|(ia, ib)| (pa[ia].bound(&pb[ib]), (ia, ib)))
             .collect();
         pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -284,9 +274,6 @@ struct Placed<'g> {
     frame: Option<(Mat3, Vec3, Vec3)>,
     /// A half-space's outward normal and a point of its plane, world.
     plane: Option<(Vec3, Vec3)>,
-    /// The other placement's parts (indices) this one is not paired with
-    /// (see [`Placement::avoiding`]).
-    avoid: SmallVec<[usize; 2]>,
 }
 
 impl<'g> Placed<'g> {
@@ -309,13 +296,7 @@ impl<'g> Placed<'g> {
             world: w,
             frame,
             plane,
-            avoid: SmallVec::new(),
         }
-    }
-
-    /// Whether this part is not paired with `other`.
-    fn avoids(&self, other: &Placed) -> bool {
-        self.avoid.contains(&other.index)
     }
 
     /// Whether the two parts are certainly farther apart than `distance`

@@ -31,11 +31,9 @@
 //! lost only at the impact that starts it. While pivoting, the part the
 //! body turns on is not searched: the landing is found on the contact
 //! plane (a half-space, or the face the edge lies on, taken as unbounded),
-//! and that part must lie below it. Body parts hanging clear of it over
-//! the face's edge, below the plane, are searched against it instead
-//! (`pivot::overhang`). On a face, the landing point must be over the
-//! face's polygon, or there is no pivot (beyond the face's edge the body
-//! would swing on below the plane). The obstacle's other parts (a shelf's
+//! and that part must lie below it. On a face, the landing point must be
+//! over the face's polygon, or there is no pivot (beyond the face's edge
+//! the body would swing on below the plane). The obstacle's other parts (a shelf's
 //! lip, the pole of a coatrack) are searched as usual when they come near
 //! the space the body sweeps, and a contact with one ends the pivot in an
 //! impact; when none comes near, the pair is not searched at all. The body's
@@ -58,7 +56,6 @@
 
 mod clear;
 mod lean;
-mod overhang;
 mod skid;
 pub(crate) mod topple;
 mod turning;
@@ -126,9 +123,6 @@ pub struct Pivot {
     /// Whether other parts of the obstacle come near the space the body
     /// sweeps: the pair is then searched, without the part it turns on.
     pub beside: bool,
-    /// The body's parts that hang clear of the part turned on, below its
-    /// plane (`pivot::overhang`): searched against it too.
-    pub overhang: Vec<usize>,
     /// Bounds over the pivot: speed of the centre of mass (a skid's; a
     /// hinge's is in `w_max`), spin, angular acceleration and the
     /// acceleration of the centre of mass (m/s, rad/s, rad/s², m/s²).
@@ -163,8 +157,6 @@ pub(crate) struct PivotStart<'a> {
     pub friction: f64,
     /// Longest the pivot may last, s.
     pub horizon: f64,
-    /// The support band, m (`sim::rest`).
-    pub band: f64,
     /// The rest speed in force for the body, m/s: a skid's ends stick
     /// below it.
     pub v_rest: f64,
@@ -336,7 +328,6 @@ impl Pivot {
             lean: p.lean,
             lands_on_lean: false,
             beside: false,
-            overhang: Vec::new(),
             v_max: 0.0,
             w_max: rate.abs(),
             alpha_max: 0.0,
@@ -353,24 +344,25 @@ impl Pivot {
             .map(|(k, v, radius)| (k, v, radius, r0 + s.q * v))
             .collect();
         // Every point off the line starts on the outer side of the contact
-        // plane (a hat's brim around a pole is not on one face), except
-        // on parts hanging clear of the face (`pivot::overhang`).
-        let mut off: Vec<&(usize, Vec3, f64, Vec3)> = all
+        // plane (a body reaching down beside the support, a hat's brim
+        // around a pole, is not on one face).
+        let off: Vec<&(usize, Vec3, f64, Vec3)> = all
             .iter()
             .filter(|(.., r)| (r - axis * axis.dot(r)).norm() > tol)
             .collect();
-        // Heights are from the line's point; leaning, the surfaces' own
-        // planes are at `level` from it along their normals.
-        let levels = p.lean.map(|l| l.levels(&n, &point));
-        let level = levels.map_or(0.0, |[first, _]| first);
-        pv.overhang = overhang::take(p, &mut off, &n, level, tol)?;
-        pv.beside = !pv.overhang.is_empty();
         let low = |n: &Vec3, level: f64| {
             off.iter()
                 .map(|(.., radius, r)| n.dot(r) - level - radius)
                 .fold(f64::INFINITY, f64::min)
         };
+        // Heights are from the line's point; leaning, the surfaces' own
+        // planes are at `level` from it along their normals.
+        let levels = p.lean.map(|l| l.levels(&n, &point));
+        let level = levels.map_or(0.0, |[first, _]| first);
         let start_low = low(&n, level);
+        if start_low < -tol {
+            return None;
+        }
         let floor = start_low.min(0.0) + level;
         let landing = Landing::new(&axis, &n, &off, floor);
         // Leaning, the far end's surface is a second plane to land on.

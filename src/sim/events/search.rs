@@ -52,25 +52,21 @@ impl World<'_, '_> {
         let a = Placement::new(self.geometry(Party::Body(pair.a)), &pa);
         match pair.b {
             // A body pivoting or sliding on a face beside other parts of
-            // the obstacle is searched against those only, except with its
-            // own parts that hang clear of the face (`sim::pivot`,
+            // the obstacle is searched against those only (`sim::pivot`,
             // `sim::rest::face`).
             Party::Obstacle(o) => {
                 let on = self.traj.tracks[pair.a].segments.last().and_then(|s| {
                     let pivot = s.pivot.as_deref().map(|pv| {
                         let far = pv.lean.map_or(pv.part, |l| l.part);
-                        (pv.obstacle, [pv.part, far], pv.overhang.as_slice())
+                        (pv.obstacle, [pv.part, far])
                     });
                     let slide = s
                         .slide
-                        .and_then(|sl| Some((sl.obstacle, [sl.face?.part; 2], &[][..])));
-                    pivot.or(slide).filter(|(on, ..)| *on == o)
+                        .and_then(|sl| Some((sl.obstacle, [sl.face?.part; 2])));
+                    pivot.or(slide).filter(|(on, _)| *on == o)
                 });
                 match on {
-                    Some((_, parts, overhang)) => query(
-                        &a.avoiding(|k| overhang.contains(&k), &parts),
-                        &self.obstacles[o],
-                    ),
+                    Some((_, parts)) => query(&a, &self.obstacles[o].without(&parts)),
                     None => query(&a, &self.obstacles[o]),
                 }
             }

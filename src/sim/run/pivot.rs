@@ -88,7 +88,6 @@ impl Sim<'_> {
             post: *post,
             friction,
             horizon: self.traj.duration - tc,
-            band,
             v_rest,
             lean: lean.map(|(.., l)| l),
         };

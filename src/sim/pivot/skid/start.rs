@@ -268,7 +268,6 @@ impl Pivot {
             lean: None,
             lands_on_lean: false,
             beside: false,
-            overhang: Vec::new(),
             v_max: course.v_max,
             w_max: course.w_max,
             alpha_max: course.alpha_max,
