@@ -6,10 +6,10 @@
 //! while turning about one edge takes an impulse at its face's centre, and
 //! after it the far corners still sink at 0.28 m/s while the witness, on
 //! the near edge, rises. The search, trusting the witness, let the far
-//! corners sink 5.4e-9 m (the skin is 1e-9 m; `tests/flush.rs`) before another query's
-//! witness moved to them. And where an edge lies nearly flush, the query's
-//! gap itself can be off: 5e-10 m reported while one end is 1.7e-9 m
-//! inside. So a contact is taken instead at the body part's deepest
+//! corners sink 5.4e-9 m (the skin is 1e-9 m; `tests/flush.rs`) before
+//! another query's witness moved to them. And where an edge lies nearly
+//! flush, the query's gap itself can be off: 5e-10 m reported while one
+//! end is 1.7e-9 m inside. So a contact is taken instead at the body part's deepest
 //! corner over the obstacle's face that approaches, when that corner is
 //! deeper than the witness, or as deep (within a slack) while the witness
 //! does not approach: the search then finds its impact at the skin, and
