@@ -402,11 +402,15 @@ impl Sim<'_> {
             };
             // Without integrated bodies every state is known in closed form
             // beyond the window: armed pairs are searched a window further,
-            // so the next events' windows find their searches done.
+            // so the next events' windows find their searches done. Not
+            // past a pivot's or a face slide's end: there its motion stops
+            // (held at the end pose) while its velocity does not, and a
+            // search's Newton probe beyond it could not bracket a root.
             let ahead = if self.cursors.iter().any(Option::is_some) {
                 end
             } else {
-                (end + window).min(duration)
+                let stop = self.next_contact_end().map_or(duration, |(te, _)| te);
+                (end + window).min(duration).min(stop.max(end))
             };
             let found = self.next_impact(t, end, ahead)?;
             // A sliding ball that stops slipping first: the switch is an
