@@ -18,9 +18,11 @@ fn run(s: &Scene, opts: &SimOptions) -> Trajectory {
 /// rad about its length and turned `yaw` about the vertical, dropped 0.1 mm
 /// into the corner of one obstacle: a floor slab (top at z = 0) and a wall
 /// (face at x = 0.3), both with friction 1. Its lowest corner is over the
-/// floor and its farthest corner touches the wall.
+/// floor and its farthest corner touches the wall. Simulated for 1.5 s.
 fn rod_in_corner(yaw: f64) -> Scene {
-    leaning_rod(yaw, 1.05, 1.0)
+    let mut s = leaning_rod(yaw, 1.05, 1.0);
+    s.duration = 1.5;
+    s
 }
 
 /// [`rod_in_corner`] pitched `pitch` rad up, with friction `mu` on the rod
@@ -82,8 +84,12 @@ fn leans(tr: &Trajectory) -> Vec<(f64, &nudge::sim::Pivot)> {
 
 /// The rod rolls about the line from its floor corner to its wall corner,
 /// landing on the floor and on the wall in turn, and comes to rest leaning
-/// in the corner: 67 events, where micro-collisions between the two
-/// surfaces took 436 (and 79 without the turn about the vertical).
+/// in the corner: 25 events, and 98 with the turn about the vertical,
+/// where micro-collisions between the two surfaces took 436. How long the
+/// turned rod rocks is sensitive to round-off: with its impacts found
+/// 1e-8 s apart (GJK's distances against exact ones) it rested after 66
+/// events at 0.89 s, or after 98 at 1.25 s; hence 1.5 s and the bound of
+/// 150.
 #[test]
 fn a_rod_leaning_into_a_corner_rolls_about_its_supports_and_rests() {
     for yaw in [0.0, 0.2] {
@@ -100,7 +106,7 @@ fn a_rod_leaning_into_a_corner_rolls_about_its_supports_and_rests() {
             "yaw {yaw}: a lean that does not land"
         );
         assert!(
-            tr.events.len() < 100,
+            tr.events.len() < 150,
             "yaw {yaw}: {} events: {:?}",
             tr.events.len(),
             tr.signature()

@@ -38,9 +38,11 @@ impl Contact {
 }
 
 mod parabola;
+pub(super) mod polytope;
 
 pub use parabola::point_parabola;
 use parabola::{against_parabola, parabola_point};
+use polytope::Decided;
 
 fn to_point(v: &Vec3) -> Point3<f64> {
     Point3::from(*v)
@@ -128,6 +130,13 @@ fn placed_part_contact(
             placed_part_contact(pb, wb, pa, wa, max_distance).map(Contact::flipped)
         }
         _ => {
+            // Small polytopes: separating axes decide most pairs exactly
+            // (`polytope`); parry the rest.
+            match polytope::contact(pa, wa, pb, wb, max_distance) {
+                Some(Decided::Beyond) => return None,
+                Some(Decided::Contact(c)) => return Some(c),
+                None => {}
+            }
             let sa = pa.shape.as_ref()?;
             let sb = pb.shape.as_ref()?;
             let c = query::contact(wa, sa.as_ref(), wb, sb.as_ref(), max_distance).ok()??;

@@ -1,6 +1,7 @@
 //! Shapes as convex parts: building them from scene shapes, their mass
 //! properties, outlines and surfaces.
 
+use super::contact::polytope::Axes;
 use crate::math::{Mat3, Vec3};
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion};
 use parry3d_f64::shape::SharedShape;
@@ -45,6 +46,9 @@ pub struct Part {
     /// The piece's bounding box in its own frame (see [`Part::local_box`]),
     /// kept for the same reason.
     bounds: Option<(Vec3, Vec3)>,
+    /// What the separating-axis contact query asks of a convex piece,
+    /// kept for the same reason.
+    pub(super) axes: Axes,
 }
 
 impl std::fmt::Debug for Part {
@@ -199,12 +203,14 @@ impl Part {
     pub(crate) fn new(kind: PartKind, shape: Option<SharedShape>) -> Part {
         let radius = Part::bounding_radius(&kind);
         let bounds = Part::bounding_box(&kind);
+        let axes = Axes::of(&kind, bounds);
         Part {
             kind,
             offset: Isometry3::identity(),
             shape,
             radius,
             bounds,
+            axes,
         }
     }
 
