@@ -48,8 +48,6 @@ pub(super) enum Decided {
     Contact(Contact),
 }
 
-type Points = SmallVec<[Vec3; MAX_VERTICES]>;
-
 /// What the axes need of a convex part, found once when it is built: the
 /// directions of its edges, one unit vector per class of parallel edges
 /// (a box has three; they are crossed pairwise), and whether it is a box
@@ -134,8 +132,14 @@ pub(super) fn contact(
     let rel = wb.inv_mul(wa);
     let rot = rel.rotation.to_rotation_matrix();
     let shift = rel.translation.vector;
-    let a: Points = va.iter().map(|v| rot * v + shift).collect();
-    let shape_a = Extents::of(pa, &a, &rot, &shift);
+    // Filled in place: collected into a vector, the 16 points were copied
+    // once more on every query.
+    let mut placed = [Vec3::zeros(); MAX_VERTICES];
+    for (p, v) in placed.iter_mut().zip(va) {
+        *p = rot * v + shift;
+    }
+    let a = &placed[..va.len()];
+    let shape_a = Extents::of(pa, a, &rot, &shift);
     let shape_b = Extents::of(pb, vb, &nalgebra::Rotation3::identity(), &Vec3::zeros());
     let scale = pa.local_radius() + pb.local_radius() + (rel.translation.vector).norm();
     let eps = 1e-12 * scale;
@@ -160,16 +164,16 @@ pub(super) fn contact(
             .find_map(|&(sep, axis)| match axis {
                 Axis::FaceB(f) => {
                     let (n, ids) = &fb[f];
-                    over_face(&a, vb, n, ids, sep, eps, tie).map(|(p_a, p_b)| (p_a, p_b, *n))
+                    over_face(a, vb, n, ids, sep, eps, tie).map(|(p_a, p_b)| (p_a, p_b, *n))
                 }
                 Axis::FaceA(f) => {
                     let (m, ids) = &fa[f];
                     let m = rot * m;
-                    over_face(vb, &a, &m, ids, sep, eps, tie).map(|(p_b, p_a)| (p_a, p_b, -m))
+                    over_face(vb, a, &m, ids, sep, eps, tie).map(|(p_b, p_a)| (p_a, p_b, -m))
                 }
                 Axis::Edges(i, j, n) => {
                     let d = rot * da[i];
-                    crossing([&a, vb], [ea, eb], [&d, &db[j]], &n, tie)
+                    crossing([a, vb], [ea, eb], [&d, &db[j]], &n, tie)
                         .map(|(p_a, p_b)| (p_a, p_b, n))
                 }
             })
