@@ -353,11 +353,12 @@ fn crossing(
         if heights.filter(|h| *h >= top - tie).count() != 2 {
             return None;
         }
+        // Heights first: only the supporting edge passes them.
         edges[k].iter().find(|[i, j]| {
             let (p, q) = (&pts[k][*i], &pts[k][*j]);
-            (q - p).normalize().cross(dirs[k]).norm() < 1e-9
-                && sign * n.dot(p) >= top - tie
+            sign * n.dot(p) >= top - tie
                 && sign * n.dot(q) >= top - tie
+                && (q - p).normalize().cross(dirs[k]).norm() < 1e-9
         })
     };
     let [i, j] = supporting(0, -1.0)?;
