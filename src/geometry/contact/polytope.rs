@@ -101,7 +101,7 @@ enum Axis {
 }
 
 /// The contact of convex parts `pa` (at `wa`, world) and `pb` (at `wb`),
-/// with `b` the obstacle side; `None` when the axes do not decide it.
+/// its normal from `b` towards `a`; `None` when the axes do not decide it.
 pub(super) fn contact(
     pa: &Part,
     wa: &Isometry3<f64>,
@@ -141,7 +141,7 @@ pub(super) fn contact(
     let a = &placed[..va.len()];
     let shape_a = Extents::of(pa, a, &rot, &shift);
     let shape_b = Extents::of(pb, vb, &nalgebra::Rotation3::identity(), &Vec3::zeros());
-    let scale = pa.local_radius() + pb.local_radius() + (rel.translation.vector).norm();
+    let scale = pa.local_radius() + pb.local_radius() + shift.norm();
     let eps = 1e-12 * scale;
     // Heights closer than this make a support ambiguous (see `over_face`).
     let tie = 1e-7 * scale;
@@ -312,7 +312,8 @@ fn over_face(
 
 /// Whether `p`, on the plane of a convex polygon with normal `n` and
 /// corners `corners` in order around it, lies on the polygon (within
-/// `eps`, either winding).
+/// `eps`, either winding). `FlatFace::holds` asks the same of a face it
+/// owns; this one reads the part's own corners, without building one.
 fn on_polygon<'p>(
     p: &Vec3,
     n: &Vec3,
