@@ -89,7 +89,9 @@ fn leans(tr: &Trajectory) -> Vec<(f64, &nudge::sim::Pivot)> {
 /// turned rod rocks is sensitive to round-off: with its impacts found
 /// 1e-8 s apart (GJK's distances against exact ones) it rested after 66
 /// events at 0.89 s, or after 98 at 1.25 s; hence 1.5 s and the bound of
-/// 150.
+/// 150. Turned the other way (yaw −0.25) a lean lands on the wall; turned
+/// by 0.2 the rod chatters on both surfaces after its first lean and is
+/// stepped into the corner (`sim::pivot::stepped`) before one does.
 #[test]
 fn a_rod_leaning_into_a_corner_rolls_about_its_supports_and_rests() {
     for yaw in [0.0, 0.2] {
@@ -122,7 +124,7 @@ fn a_rod_leaning_into_a_corner_rolls_about_its_supports_and_rests() {
             end.x
         );
     }
-    let turned = leans(&run(&rod_in_corner(0.2), &SimOptions::default()))
+    let turned = leans(&run(&rod_in_corner(-0.25), &SimOptions::default()))
         .iter()
         .filter(|(_, p)| p.lands_on_lean)
         .count();

@@ -53,10 +53,14 @@
 //! whose only two supports lie on surfaces with different normals (a rod
 //! in the corner of a floor and a wall) leans: it turns about the line
 //! through them as a hinge, held by friction at both ends (`pivot::lean`).
+//! A body chattering where none of these applies (on two obstacles, on an
+//! edge crossing an edge) is time-stepped on all its contacts instead
+//! (`pivot::stepped`).
 
 mod clear;
 mod lean;
 mod skid;
+pub(crate) mod stepped;
 pub(crate) mod topple;
 mod turning;
 
@@ -68,6 +72,7 @@ use crate::scene::Scene;
 use clear::{Boxes, Clear};
 pub use lean::Lean;
 pub use skid::Skid;
+pub use stepped::Stepped;
 use turning::{Hinge, Landing, Turn};
 
 /// Integration step of the hinge angle, s.
@@ -88,6 +93,8 @@ pub enum PivotEnd {
     /// A skid's end slides off the face of the hull it skids on: free
     /// flight (the body tips over the face's edge).
     OffFace,
+    /// A stepped body comes to rest (`pivot::stepped`).
+    Rests,
     /// The simulation ends first.
     Duration,
 }
@@ -139,6 +146,8 @@ enum Motion {
     Hinge(Turn),
     /// The line slides on a plane (see `pivot::skid`).
     Skid(Box<Skid>),
+    /// Time-stepped on all its contacts (see `pivot::stepped`).
+    Stepped(Box<Stepped>),
 }
 
 /// Everything [`Pivot::enter`] needs about the impact.
@@ -500,7 +509,7 @@ impl Pivot {
     pub fn speed_bound(&self, x: &Vec3, reach: f64) -> f64 {
         match self.motion {
             Motion::Hinge(_) => self.w_max * ((x - self.point).norm() + reach),
-            Motion::Skid(_) => self.v_max + self.w_max * reach,
+            Motion::Skid(_) | Motion::Stepped(_) => self.v_max + self.w_max * reach,
         }
     }
 
@@ -560,6 +569,7 @@ impl Pivot {
         let turn = match &self.motion {
             Motion::Hinge(turn) => turn,
             Motion::Skid(skid) => return skid.at(tau),
+            Motion::Stepped(stepped) => return stepped.at(tau),
         };
         let (th, w) = turn.angle(tau);
         let rot = exp_so3(&(self.axis * th));
@@ -577,7 +587,15 @@ impl Pivot {
     pub fn skid(&self) -> Option<&Skid> {
         match &self.motion {
             Motion::Skid(skid) => Some(skid),
-            Motion::Hinge(_) => None,
+            Motion::Hinge(_) | Motion::Stepped(_) => None,
+        }
+    }
+
+    /// The stepped motion this pivot follows, if it is one.
+    pub fn stepped(&self) -> Option<&Stepped> {
+        match &self.motion {
+            Motion::Stepped(stepped) => Some(stepped),
+            _ => None,
         }
     }
 

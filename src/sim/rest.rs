@@ -66,7 +66,11 @@
 //!    *skids*, the edge sliding on the plane (`sim::pivot::skid`). A
 //!    body on exactly two support points on surfaces with different
 //!    normals (a floor and a wall) *leans*, turning about the line through
-//!    them while friction holds both ends (`sim::pivot::lean`).
+//!    them while friction holds both ends (`sim::pivot::lean`). A body
+//!    that chatters on where none of these takes it (on two obstacles, on
+//!    edges crossing edges, beside other parts of a hull) is *stepped*
+//!    after two micro-collisions in a row: time-stepped on all its
+//!    contacts until it rests, lands or lifts off (`sim::pivot::stepped`).
 //!
 //! Every path ends: a Zeno series of a supported body falls below `v_r` in
 //! finitely many bounces and rests or slides; chatter is bounded by the hop

@@ -498,7 +498,7 @@ impl Trajectory {
             || seg
                 .pivot
                 .as_ref()
-                .is_some_and(|p| p.obstacle == o && !p.beside)
+                .is_some_and(|p| (p.obstacle == o && !p.beside) || p.stepped().is_some())
     }
 
     /// The pivot `body` follows at time `t`, if any.

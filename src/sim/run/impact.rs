@@ -297,6 +297,7 @@ impl Sim<'_> {
                     ..sa
                 };
                 self.try_pivot(a, o, contact.part_b, &post, tc)
+                    .or_else(|| self.try_stepped(a, o, contact.part_b, &post, tc))
             }
             _ => None,
         };

@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::geometry::NearPoint;
-use crate::sim::pivot::{Lean, Pivot, PivotEnd, PivotStart, SupportLine, topple};
+use crate::sim::pivot::{Lean, Pivot, PivotEnd, PivotStart, SupportLine, stepped, topple};
 
 impl Sim<'_> {
     /// The pivot that an impact of body `a` on obstacle `o` (its part
@@ -111,6 +111,65 @@ impl Sim<'_> {
         }
     }
 
+    /// The stepped motion (`sim::pivot::stepped`) that a Zeno-regime
+    /// impact of body `a` on obstacle `o` starts when no pivot takes it
+    /// and the body has chattered [`TRAIN`] micro-collisions in a row,
+    /// counting this one.
+    ///
+    /// [`TRAIN`]: crate::sim::pivot::stepped::TRAIN
+    pub(super) fn try_stepped(
+        &self,
+        a: usize,
+        o: usize,
+        part: usize,
+        post: &BodyState,
+        tc: f64,
+    ) -> Option<(Pivot, BodyState)> {
+        let scene = self.scene;
+        if !stepped::supported(scene, a) {
+            return None;
+        }
+        let train = self
+            .traj
+            .events
+            .iter()
+            .rev()
+            .filter(|e| e.a == a || e.b == Party::Body(a))
+            .take(stepped::TRAIN - 1)
+            .take_while(|e| e.micro)
+            .count();
+        if train + 1 < stepped::TRAIN {
+            return None;
+        }
+        let d = &self.traj.dynamics[a];
+        let (v_rest, band) = rest::thresholds(scene, d, &self.traj.gravity, self.tol.arm);
+        // Only where the exact models cannot take the chatter: supports on
+        // two obstacles or more, or an edge crossing an edge (a face slide
+        // or a rest is for a body on one obstacle's faces).
+        let on: Vec<usize> = (0..scene.obstacles.len())
+            .filter(|&k| !rest::supports(scene, a, k, post, band).is_empty())
+            .collect();
+        let plane = |k: usize| {
+            let parts = &scene.obstacles[k].geometry.parts;
+            parts.len() == 1 && matches!(parts[0].kind, crate::geometry::PartKind::HalfSpace { .. })
+        };
+        if on.len() == 1 && plane(on[0]) {
+            return None;
+        }
+        Pivot::enter_stepped(&stepped::SteppedStart {
+            scene,
+            dynamics: d,
+            gravity: self.traj.gravity,
+            body: a,
+            post: *post,
+            horizon: self.traj.duration - tc,
+            v_rest,
+            band,
+            obstacle: o,
+            part,
+        })
+    }
+
     /// Start body `i` pivoting at `t0` from `start`; its Jacobian is lost
     /// from here on (`TangentError::Contact`).
     pub(super) fn start_pivot(
@@ -176,6 +235,28 @@ impl Sim<'_> {
             return self.impact(te, k, &contact);
         }
         let m = self.traj.m;
+        if pv.stepped().is_some() {
+            // Stepped on every obstacle: at rest, or flying from here with
+            // every obstacle's pair disarmed (in contact, not striking).
+            let rest = pv.end == PivotEnd::Rests;
+            let s = if rest {
+                BodyState {
+                    v: Vec3::zeros(),
+                    w: Vec3::zeros(),
+                    ..s
+                }
+            } else {
+                s
+            };
+            self.start_segment(i, te, s, DMatrix::zeros(12, m), rest, None);
+            for k in 0..self.pairs.len() {
+                if self.pairs[k].a == i && matches!(self.pairs[k].b, Party::Obstacle(_)) {
+                    self.pairs[k].armed = false;
+                    self.pairs[k].hold = te;
+                }
+            }
+            return Ok(());
+        }
         if pv.end == PivotEnd::Sticks {
             // The skid's line stopped slipping: the hinge, if friction
             // holds it.
