@@ -67,7 +67,7 @@ use crate::sim::state::BodyState;
 use crate::sim::statics::{self, Support};
 pub(crate) use contacts::supported;
 use contacts::{Touch, follow, touches};
-use impulses::{Solve, inertia, inverse_inertia};
+use impulses::{Impulses, Solve, inertia, inverse_inertia};
 
 /// The time step, s.
 pub const STEP: f64 = 2e-3;
@@ -183,7 +183,7 @@ impl Pivot {
         let gyro = p.scene.effects.gyroscopic && d.integrate;
         // Sweeps stop once no impulse changes the velocity by more than a
         // millionth of the rest speed.
-        let tol = 1e-6 * d.mass * p.v_rest;
+        let tol = 1e-4 * d.mass * p.v_rest;
         let down = g.normalize();
         // A contact struck faster than this bounces out of the support
         // band: an impact, not part of the chatter.
@@ -191,6 +191,7 @@ impl Pivot {
         let mut s = p.post;
         let mut table: Vec<BodyState> = Vec::new();
         let mut quiet = 0;
+        let mut last: Vec<([usize; 5], Vec3)> = Vec::new();
         let mut end = PivotEnd::Duration;
         // The contact struck, its point in the body frame, and the state
         // that touches it.
@@ -222,7 +223,9 @@ impl Pivot {
             // Each contact's turn over the step is taken at the free
             // velocities, then again at the solved ones.
             follow(&mut found, &s, v_free, s.w, h);
-            let (mut v1, mut w1, mut impulses) = solve.run(&found, v_free, s.w, None);
+            // Started from the last step's impulses at the same contacts.
+            let warm = Impulses::warm(&found, &last);
+            let (mut v1, mut w1, mut impulses) = solve.run(&found, v_free, s.w, Some(&warm));
             // Where the impulses turn the body enough to change a contact's
             // own turn so that it would end below half the clearance, once
             // more with the turns at the solved velocities.
@@ -234,6 +237,7 @@ impl Pivot {
             if short {
                 (v1, w1, impulses) = solve.run(&found, v_free, s.w, Some(&impulses));
             }
+            last = impulses.keyed(&found);
             let normal = impulses.normal;
             // A contact not yet touching that this step closes fast enough
             // to bounce off visibly: the body drifts to it, without it.

@@ -143,9 +143,8 @@ impl Sim<'_> {
         }
         let d = &self.traj.dynamics[a];
         let (v_rest, band) = rest::thresholds(scene, d, &self.traj.gravity, self.tol.arm);
-        // Only where the exact models cannot take the chatter: supports on
-        // two obstacles or more, or an edge crossing an edge (a face slide
-        // or a rest is for a body on one obstacle's faces).
+        // Not where every support is on one obstacle that is a lone
+        // half-space: a slide or a rest takes the chatter there.
         let on: Vec<usize> = (0..scene.obstacles.len())
             .filter(|&k| !rest::supports(scene, a, k, post, band).is_empty())
             .collect();

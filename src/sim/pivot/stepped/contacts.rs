@@ -25,8 +25,11 @@ pub(super) struct Touch {
     /// What makes the contact, to follow its gap as the body moves.
     pub(super) feature: Feature,
     /// How far the gap falls short of its linear prediction over the
-    /// step (`gap(h) − d − h n · u`), m; set by [`Touch::follow`].
+    /// step (`gap(h) − d − h n · u`), m; set by [`follow`].
     pub(super) turn: f64,
+    /// The same contact in the next step has the same key (obstacle,
+    /// parts, and the corner's kind and feature indices).
+    pub(super) key: [usize; 5],
 }
 
 /// The features of a contact, to evaluate its gap at other body states.
@@ -116,27 +119,45 @@ pub(super) fn touches(p: &SteppedStart<'_>, s: &BodyState, margin: f64) -> Vec<T
         let friction = rest::pair_friction(p.scene, p.body, o);
         let restitution = body.restitution * ob.restitution;
         for (part_a, pa) in body.geometry.parts.iter().enumerate() {
-            // The part's bounding sphere, world.
-            let (centre, radius) = match pa.local_box() {
-                Some((c, half)) => ((pose * pa.offset) * nalgebra::Point3::from(c), half.norm()),
-                None => (
-                    (pose * pa.offset) * nalgebra::Point3::origin(),
-                    pa.local_radius(),
-                ),
+            // The part's bounding box, world: centre, axes and half
+            // extents (a ball's is its cube).
+            let frame_a = pose * pa.offset;
+            let (centre, half_a) = pa
+                .local_box()
+                .unwrap_or((Vec3::zeros(), Vec3::repeat(pa.local_radius())));
+            let centre = (frame_a * nalgebra::Point3::from(centre)).coords;
+            let axes_a = frame_a.rotation.to_rotation_matrix().into_inner();
+            // How far the box reaches along a unit direction.
+            let extent = |u: &Vec3| {
+                (0..3)
+                    .map(|i| u.dot(&axes_a.column(i)).abs() * half_a[i])
+                    .sum::<f64>()
             };
             for (part_b, pb) in ob.geometry.parts.iter().enumerate() {
-                // Obstacle parts (their box, or a half-space's plane)
-                // farther than the margin from that sphere have no near
-                // points.
+                // Obstacle parts separated from that box by more than the
+                // margin (along a half-space's normal, or one of the two
+                // boxes' axes) have no near points.
                 let frame = ob.pose * pb.offset;
                 let far = match (&pb.kind, pb.local_box()) {
                     (PartKind::HalfSpace { normal }, _) => {
                         let n = frame.rotation * normal;
-                        n.dot(&(centre.coords - frame.translation.vector)) > radius + margin
+                        n.dot(&(centre - frame.translation.vector)) - extent(&n) > margin
                     }
                     (_, Some((c, half))) => {
-                        let local = frame.inverse_transform_point(&centre).coords - c;
-                        (local.abs() - half).sup(&Vec3::zeros()).norm() > radius + margin
+                        let axes_b = frame.rotation.to_rotation_matrix().into_inner();
+                        let between = centre - (frame * nalgebra::Point3::from(c)).coords;
+                        let extent_b = |u: &Vec3| {
+                            (0..3)
+                                .map(|i| u.dot(&axes_b.column(i)).abs() * half[i])
+                                .sum::<f64>()
+                        };
+                        (0..3).any(|i| {
+                            let u: Vec3 = axes_b.column(i).into();
+                            u.dot(&between).abs() - half[i] - extent(&u) > margin
+                        }) || (0..3).any(|i| {
+                            let u: Vec3 = axes_a.column(i).into();
+                            u.dot(&between).abs() - half_a[i] - extent_b(&u) > margin
+                        })
                     }
                     _ => false,
                 };
@@ -145,6 +166,12 @@ pub(super) fn touches(p: &SteppedStart<'_>, s: &BodyState, margin: f64) -> Vec<T
                 }
                 for q in part_near_points(pa, &pose, pb, &ob.pose, margin) {
                     let back = s.q.inverse();
+                    let (kind, index) = match q.corner {
+                        Corner::A { index, .. } => (0, index),
+                        Corner::B { index, .. } => (1, index),
+                        Corner::Crossing { ea, eb, .. } => (2, ea * 4096 + eb),
+                        Corner::Ball => (3, 0),
+                    };
                     let feature = match q.corner {
                         Corner::A { p, .. } => Feature::Point {
                             body: p,
@@ -200,6 +227,7 @@ pub(super) fn touches(p: &SteppedStart<'_>, s: &BodyState, margin: f64) -> Vec<T
                         restitution,
                         feature,
                         turn: 0.0,
+                        key: [o, part_a, part_b, kind, index],
                     };
                     // Features that do not give back the gap found (an edge
                     // crossing beyond an end of either edge) are followed

@@ -52,11 +52,45 @@ pub(super) struct Solve<'a> {
     pub(super) tol: f64,
 }
 
-/// One step's impulses, per contact: along the normal and in the plane.
+/// One step's impulses, per contact: along the normal and in the plane
+/// (in the contact's `plane_basis`).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Impulses {
     pub(super) normal: Vec<f64>,
     pub(super) tangent: Vec<Vector2<f64>>,
+}
+
+impl Impulses {
+    /// Each contact's impulse (world, N·s) with its key, to start the next
+    /// step's solve from.
+    pub(super) fn keyed(&self, touches: &[Touch]) -> Vec<([usize; 5], Vec3)> {
+        touches
+            .iter()
+            .enumerate()
+            .map(|(k, t)| {
+                let (t1, t2) = plane_basis(&t.normal);
+                let p = t.normal * self.normal[k] + t1 * self.tangent[k].x + t2 * self.tangent[k].y;
+                (t.key, p)
+            })
+            .collect()
+    }
+
+    /// The last step's impulses for the same contacts as a start for
+    /// this step's (zero for new contacts; each projected on its contact's
+    /// normal and plane).
+    pub(super) fn warm(touches: &[Touch], last: &[([usize; 5], Vec3)]) -> Impulses {
+        let (mut normal, mut tangent) = (Vec::new(), Vec::new());
+        for t in touches {
+            let p = last
+                .iter()
+                .find(|(key, _)| *key == t.key)
+                .map_or(Vec3::zeros(), |(_, p)| *p);
+            let (t1, t2) = plane_basis(&t.normal);
+            normal.push(t.normal.dot(&p).max(0.0));
+            tangent.push(Vector2::new(t1.dot(&p), t2.dot(&p)));
+        }
+        Impulses { normal, tangent }
+    }
 }
 
 impl Solve<'_> {
@@ -175,7 +209,7 @@ impl Solve<'_> {
                     apply(&mut v, &mut w, &row.touch.r, row.t1 * dt.x + row.t2 * dt.y);
                 }
             }
-            if change <= 1e-6 * self.tol {
+            if change <= self.tol {
                 break;
             }
         }

@@ -87,13 +87,21 @@ fn a_box_sliding_on_a_frictionless_table_keeps_its_velocity_and_height() {
     };
     let pv = stepped(&s, &d, start, 0.2).expect("the box is stepped");
     assert_eq!(pv.end, PivotEnd::Duration);
+    let v_rest = rest::thresholds(&s, &d, &Vec3::new(0.0, 0.0, -G), 1e-9).0;
     for k in 0..=100 {
         let tau = 0.2 * k as f64 / 100.0;
         let st = pv.at(tau);
         // x(t) = x₀ + v₀ t along the table; no turn.
         let along = (st.x - start.x - v0 * tau).xy().norm();
         assert!(along < 1e-12, "{along:e} m off x₀ + v₀ t at {tau} s");
-        assert!((st.v.xy() - v0.xy()).norm() < 1e-12 && st.w.norm() < 1e-9);
+        // The normal impulses are solved to 1e-4 of the rest speed: the
+        // four corners' share of the weight leaves no turn beyond that.
+        assert!(
+            (st.v.xy() - v0.xy()).norm() < 1e-12 && st.w.norm() * d.reach < 1e-4 * v_rest,
+            "{:?} m/s, {:?} rad/s at {tau} s",
+            st.v,
+            st.w
+        );
         // Held just off the top: within the clearance and round-off.
         let gap = lowest(&st);
         assert!((-1e-12..=1e-6).contains(&gap), "gap {gap:e} at {tau} s");
