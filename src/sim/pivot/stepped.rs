@@ -291,6 +291,12 @@ impl Pivot {
                 }
             }
             let now = BodyState { v: v1, w: w1, ..s };
+            // A step that leaves the finite numbers (a degenerate contact
+            // geometry) gives no stepped motion: the impact stays a
+            // micro-collision.
+            if !now.is_finite() {
+                return None;
+            }
             v_max = v_max.max(v1.norm());
             w_max = w_max.max(w1.norm());
             accel_max = accel_max.max((v1 - s.v).norm() / h);
@@ -358,6 +364,9 @@ impl Pivot {
         let last = table.len() - 1;
         let end_state = landing.as_ref().map_or(table[last], |(.., at)| *at);
         let cleared = clear(p, &end_state);
+        if !cleared.is_finite() {
+            return None;
+        }
         let shift = cleared.x - end_state.x;
         // (A turn in the body frame, so that the drift ends on it.)
         let turn = end_state.q.inverse() * cleared.q;
