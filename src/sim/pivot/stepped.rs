@@ -116,11 +116,6 @@ impl Stepped {
         let k = ((tau.max(0.0) / STEP).floor() as usize).min(self.table.len() - 1);
         drift(&self.table[k], tau - k as f64 * STEP)
     }
-
-    /// How many steps the motion took.
-    pub fn steps(&self) -> usize {
-        self.table.len().saturating_sub(1)
-    }
 }
 
 /// `s` moved on for `dt` with its velocities held.
@@ -172,17 +167,17 @@ fn clear(p: &SteppedStart<'_>, s: &BodyState) -> BodyState {
 
 impl Pivot {
     /// The stepped motion an impact starts (see the module notes), with
-    /// the state it starts from; `None` when the body is moving so fast
-    /// that the first step already lands or the scene is not one it
-    /// steps.
+    /// the state it starts from; `None` when the first step already
+    /// lands, a step leaves the finite numbers, or the scene is not one
+    /// it steps.
     pub(crate) fn enter_stepped(p: &SteppedStart<'_>) -> Option<(Pivot, BodyState)> {
         let (d, g) = (p.dynamics, p.gravity);
         if g.norm() == 0.0 || d.drag_k.is_some() || !supported(p.scene, p.body) {
             return None;
         }
         let gyro = p.scene.effects.gyroscopic && d.integrate;
-        // Sweeps stop once no impulse changes the velocity by more than a
-        // millionth of the rest speed.
+        // Sweeps stop once no impulse changes the velocity by more than
+        // 1e-4 of the rest speed.
         let tol = 1e-4 * d.mass * p.v_rest;
         let down = g.normalize();
         // A contact struck faster than this bounces out of the support
