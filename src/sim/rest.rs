@@ -174,26 +174,29 @@ pub(crate) fn thresholds(scene: &Scene, d: &BodyDynamics, gravity: &Vec3, arm: f
     (v_r, band)
 }
 
-/// Body points relative to the centre of mass (world axes), with the radius
-/// of the ball they stand for (0 for hull vertices).
-fn body_points(scene: &Scene, body: usize, s: &BodyState) -> Vec<(Vec3, f64)> {
-    let mut out = Vec::new();
-    for p in &scene.bodies[body].geometry.parts {
+/// Whether every point of the body moves slower than `limit` (m/s).
+///
+/// The speed of a body point `p` (body frame, from the centre of mass)
+/// is `|v_b + w_b × p|` with the velocities turned into the body frame,
+/// and into a part's own frame `(R, t)` it is `|R⁻¹(v_b + w_b × t) +
+/// R⁻¹w_b × y|` at its vertex `y`: one cross product per vertex, no
+/// allocation, stopping at the first point as fast as `limit`. A ball is
+/// as fast as its centre plus its spin times its radius.
+pub(crate) fn slower_than(scene: &Scene, body: usize, s: &BodyState, limit: f64) -> bool {
+    let back = s.q.inverse();
+    let (v, w) = (back * s.v, back * s.w);
+    let spin = w.norm();
+    scene.bodies[body].geometry.parts.iter().all(|p| {
+        let (rot, t) = (p.offset.rotation, p.offset.translation.vector);
         match &p.kind {
-            PartKind::Ball { radius } => out.push((s.q * p.offset.translation.vector, *radius)),
-            PartKind::Convex { .. } => out.extend(p.vertices().into_iter().map(|v| (s.q * v, 0.0))),
-            _ => {}
+            PartKind::Ball { radius } => (v + w.cross(&t)).norm() + spin * radius < limit,
+            PartKind::Convex { vertices, .. } => {
+                let (vp, wp) = (rot.inverse() * (v + w.cross(&t)), rot.inverse() * w);
+                vertices.iter().all(|y| (vp + wp.cross(y)).norm() < limit)
+            }
+            _ => true,
         }
-    }
-    out
-}
-
-/// Largest speed of any point of the body.
-pub(crate) fn max_point_speed(scene: &Scene, body: usize, s: &BodyState) -> f64 {
-    body_points(scene, body, s)
-        .iter()
-        .map(|(r, radius)| (s.v + s.w.cross(r)).norm() + s.w.norm() * radius)
-        .fold(0.0, f64::max)
+    })
 }
 
 /// The friction coefficient between a body and an obstacle (0 without the
@@ -326,7 +329,7 @@ pub(crate) fn decide(i: &Impact<'_>) -> Mode {
         return Mode::Bounce;
     }
     let tol = 1e-9 + 1e-6 * i.dynamics.reach;
-    let slow = max_point_speed(scene, i.body, s) < v_r;
+    let slow = slower_than(scene, i.body, s, v_r);
     if gn == 0.0 {
         return if slow { Mode::Rest } else { Mode::Bounce };
     }

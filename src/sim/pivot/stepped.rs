@@ -296,7 +296,7 @@ impl Pivot {
             w_max = w_max.max(w1.norm());
             accel_max = accel_max.max((v1 - s.v).norm() / h);
             // Rest: every point slow, and the supports hold the body.
-            if rest::max_point_speed(p.scene, p.body, &now) < p.v_rest {
+            if rest::slower_than(p.scene, p.body, &now, p.v_rest) {
                 let supports: Vec<Support> = found
                     .iter()
                     .filter(|t| t.distance <= p.band)

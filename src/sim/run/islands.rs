@@ -67,7 +67,7 @@ impl Sim<'_> {
     /// Whether body `i` in state `s` is slow enough to rest.
     pub(super) fn slow(&self, i: usize, s: &BodyState) -> bool {
         let v_r = self.rest_thresholds(i).0;
-        v_r > 0.0 && rest::max_point_speed(self.scene, i, s) < v_r
+        v_r > 0.0 && rest::slower_than(self.scene, i, s, v_r)
     }
 
     /// The support points of body `i` on body `j` (normals from `j` into
