@@ -487,9 +487,12 @@ pub fn part_near_points(
     let above_b = |p: &Vec3| pair.normal.dot(&(p - pair.point_b));
     let below_a = |p: &Vec3| pair.normal.dot(&(pair.point_a - p));
     let margin = band + 1e-9 * (1.0 + pair.point_b.norm());
-    // Candidate points of a with the radius to subtract.
-    let points: Vec<(Vec3, f64, Corner)> = match &pa.kind {
-        PartKind::Ball { radius } => vec![(wa.translation.vector, *radius, Corner::Ball)],
+    // Candidate points of a with the radius to subtract (on the stack:
+    // this runs for every near part pair of every stepped step).
+    let points: SmallVec<[(Vec3, f64, Corner); 16]> = match &pa.kind {
+        PartKind::Ball { radius } => {
+            std::iter::once((wa.translation.vector, *radius, Corner::Ball)).collect()
+        }
         PartKind::Convex { vertices, .. } => vertices
             .iter()
             .enumerate()
@@ -564,12 +567,12 @@ pub fn part_near_points(
     if !n.iter().all(|v| v.is_finite()) {
         return out;
     }
-    let wva: Vec<Vec3> = va.iter().map(|v| (wa * to_point(v)).coords).collect();
-    let wvb: Vec<Vec3> = vb.iter().map(|v| (wb * to_point(v)).coords).collect();
+    let wva: SmallVec<[Vec3; 16]> = va.iter().map(|v| (wa * to_point(v)).coords).collect();
+    let wvb: SmallVec<[Vec3; 16]> = vb.iter().map(|v| (wb * to_point(v)).coords).collect();
     let owner_a = |i: usize| (pa.offset * to_point(&va[i])).coords;
     let owner_b = |i: usize| (pb.offset * to_point(&vb[i])).coords;
-    let near_b: Vec<bool> = wvb.iter().map(|q| below_a(q) <= margin).collect();
-    let near_a: Vec<bool> = wva.iter().map(|p| above_b(p) <= margin).collect();
+    let near_b: SmallVec<[bool; 16]> = wvb.iter().map(|q| below_a(q) <= margin).collect();
+    let near_a: SmallVec<[bool; 16]> = wva.iter().map(|p| above_b(p) <= margin).collect();
     for (index, p) in wvb.iter().enumerate().filter(|(i, _)| near_b[*i]) {
         let proj = sa.project_point(&wa, &to_point(p), false);
         let gap = (proj.point.coords - p).norm();
@@ -587,7 +590,7 @@ pub fn part_near_points(
         }
     }
     // An edge can cross into the slab only from an end inside it.
-    let edges_b: Vec<(usize, &[usize; 2])> = eb
+    let edges_b: SmallVec<[(usize, &[usize; 2]); 32]> = eb
         .iter()
         .enumerate()
         .filter(|(_, f)| near_b[f[0]] || near_b[f[1]])
