@@ -176,8 +176,8 @@ impl Pivot {
             return None;
         }
         let gyro = p.scene.effects.gyroscopic && d.integrate;
-        // Sweeps stop once no impulse changes the velocity by more than
-        // 1e-4 of the rest speed.
+        // Sweeps stop once a sweep changes no point's velocity by more
+        // than 1e-4 of the rest speed.
         let tol = 1e-4 * d.mass * p.v_rest;
         let down = g.normalize();
         // A contact struck faster than this bounces out of the support

@@ -45,7 +45,10 @@ pub(super) struct Solve<'a> {
     /// The world inertia inverse at the step's start.
     pub(super) i_inv: Mat3,
     /// Step, s; fraction of a penetration pushed out; the gap contacts
-    /// are held at, m; and the impulse change (N·s) at which sweeps stop.
+    /// are held at, m; and the change (N·s) at which sweeps stop: the
+    /// mass times the velocity change of the body's fastest-changing
+    /// point (`|Δv| + |Δω| r`) over a full sweep, one normal impulse's
+    /// change over a normal sweep.
     pub(super) h: f64,
     pub(super) push: f64,
     pub(super) clearance: f64,
@@ -169,8 +172,10 @@ impl Solve<'_> {
             }
             change
         };
+        let reach = self.dynamics.reach;
         for _ in 0..SWEEPS {
-            let mut change = normal_pass(&mut v, &mut w, &mut out);
+            let (v0, w0) = (v, w);
+            normal_pass(&mut v, &mut w, &mut out);
             for (k, row) in rows.iter().enumerate() {
                 let t = &row.touch;
                 if t.friction <= 0.0 {
@@ -189,8 +194,11 @@ impl Solve<'_> {
                     out.tangent[k] = next;
                     apply(&mut v, &mut w, &t.r, row.t1 * dt.x + row.t2 * dt.y);
                 }
-                change = change.max(dt.norm());
             }
+            // Converged when no point's velocity moved by more than the
+            // tolerance over the sweep (redundant contacts can trade
+            // impulse among themselves long after the motion is settled).
+            let change = m * ((v - v0).norm() + reach * (w - w0).norm());
             if change <= self.tol {
                 break;
             }
