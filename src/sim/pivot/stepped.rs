@@ -16,7 +16,8 @@
 //!
 //! - every [`STEP`] its contacts with the static obstacles are found
 //!   (`geometry::near_points` within the support band plus twice what the
-//!   step can close), and one impulse per contact keeps it from closing
+//!   step can close at each part's, then each point's, own speed), and
+//!   one impulse per contact keeps it from closing
 //!   (`n · u ≥ (c − d) / h` for a gap `d`, a fifth of a penetration pushed
 //!   out per step, `c` the clearance) inside its Coulomb disc
 //!   (`|λ_t| ≤ μ λ_n`), solved by projected Gauss–Seidel: a plastic,
@@ -66,7 +67,7 @@ use crate::sim::rest;
 use crate::sim::state::BodyState;
 use crate::sim::statics::{self, Support};
 pub(crate) use contacts::supported;
-use contacts::{Touch, follow, touches};
+use contacts::{Margin, Touch, follow, touches};
 use impulses::{Impulses, Solve, inertia, inverse_inertia};
 
 /// The time step, s.
@@ -138,7 +139,7 @@ fn clear(p: &SteppedStart<'_>, s: &BodyState) -> BodyState {
     let mut s = *s;
     let skin = 1e-12 * (1.0 + d.reach);
     for _ in 0..8 {
-        let deep: Vec<Touch> = touches(p, &s, p.band)
+        let deep: Vec<Touch> = touches(p, &s, &Margin::band(p.band))
             .into_iter()
             .filter(|t| t.distance < 0.0)
             .map(|t| Touch {
@@ -201,12 +202,18 @@ impl Pivot {
                 break;
             }
             let v_free = s.v + g * h;
-            let margin = p.band + 2.0 * (v_free.norm() + s.w.norm() * d.reach) * h;
+            // Within the support band, plus twice what the step can close.
+            let margin = Margin {
+                band: p.band,
+                ahead: 2.0 * h,
+                v: v_free,
+                w: s.w,
+            };
             // Contacts are held this far off (more than the third-order
             // error of a step's drift, `|ω|³ r h³`), so no point of the
             // body dips into an obstacle between the steps.
             let clearance = CLEARANCE * d.reach + (s.w.norm() * h).powi(3) * d.reach;
-            let mut found = touches(p, &s, margin);
+            let mut found = touches(p, &s, &margin);
             let solve = Solve {
                 dynamics: d,
                 i_inv: inverse_inertia(d, &s),

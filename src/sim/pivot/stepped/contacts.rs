@@ -109,8 +109,45 @@ pub(crate) fn supported(scene: &Scene, body: usize) -> bool {
         })
 }
 
-/// The body's contacts at `s` with every obstacle, within `margin`.
-pub(super) fn touches(p: &SteppedStart<'_>, s: &BodyState, margin: f64) -> Vec<Touch> {
+/// How far from the obstacles a body's contacts are looked for: the
+/// support band, plus `ahead` seconds at the greatest speed of each
+/// part's points (`|v + ω × c| + |ω| ρ` for a part in a sphere of
+/// radius `ρ` about `c`), so a part near the axis of a fast spin is
+/// not searched as far as the body's reach would take its tips.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Margin {
+    pub(super) band: f64,
+    pub(super) ahead: f64,
+    pub(super) v: Vec3,
+    pub(super) w: Vec3,
+}
+
+impl Margin {
+    /// The support band alone.
+    pub(super) fn band(band: f64) -> Margin {
+        Margin {
+            band,
+            ahead: 0.0,
+            v: Vec3::zeros(),
+            w: Vec3::zeros(),
+        }
+    }
+
+    /// For a part in a sphere of `radius` about `centre` (world, from
+    /// the centre of mass).
+    fn of(&self, centre: &Vec3, radius: f64) -> f64 {
+        let speed = (self.v + self.w.cross(centre)).norm() + self.w.norm() * radius;
+        self.band + self.ahead * speed
+    }
+
+    /// For the body point at `r` (world, from the centre of mass).
+    fn at(&self, r: &Vec3) -> f64 {
+        self.band + self.ahead * (self.v + self.w.cross(r)).norm()
+    }
+}
+
+/// The body's contacts at `s` with every obstacle, within `reach`.
+pub(super) fn touches(p: &SteppedStart<'_>, s: &BodyState, reach: &Margin) -> Vec<Touch> {
     let pose = s.pose();
     let body = &p.scene.bodies[p.body];
     let d_reach = p.dynamics.reach;
@@ -122,6 +159,7 @@ pub(super) fn touches(p: &SteppedStart<'_>, s: &BodyState, margin: f64) -> Vec<T
             // The part's bounding box, world: centre, axes and half
             // extents (a ball's is its cube).
             let frame_a = pose * pa.offset;
+            let margin = reach.of(&(frame_a.translation.vector - s.x), pa.local_radius());
             let (centre, half_a) = pa
                 .local_box()
                 .unwrap_or((Vec3::zeros(), Vec3::repeat(pa.local_radius())));
@@ -238,7 +276,10 @@ pub(super) fn touches(p: &SteppedStart<'_>, s: &BodyState, margin: f64) -> Vec<T
                             radius: 0.0,
                         };
                     }
-                    out.push(touch);
+                    // (The part's margin is its fastest point's.)
+                    if touch.distance <= reach.at(&touch.r) {
+                        out.push(touch);
+                    }
                 }
             }
         }
