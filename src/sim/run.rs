@@ -14,6 +14,7 @@ use crate::math::{Vec3, exp_so3, left_jacobian};
 use crate::scene::{Block, Method, Scene};
 use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion};
 
+mod bound;
 mod impact;
 mod islands;
 mod pivot;
@@ -24,6 +25,7 @@ mod sustained;
 
 use super::error::MAX_SUBSTEPS;
 pub use super::error::{SimError, SimOptions};
+use bound::ObstacleBound;
 
 /// Where an integrated body's next step starts.
 #[derive(Debug, Clone)]
@@ -109,7 +111,7 @@ struct Sim<'a> {
     pairs: Vec<Pair>,
     /// The index in `pairs` of each listed body–body pair `(a, b)`.
     body_pairs: std::collections::HashMap<(usize, usize), usize>,
-    obstacle_boxes: Vec<Option<(Vec3, Vec3)>>,
+    obstacle_bounds: Vec<ObstacleBound>,
     /// Every obstacle placed for contact queries, once.
     obstacles: Vec<crate::geometry::Placement<'a>>,
     tol: Tolerances,
@@ -268,30 +270,8 @@ pub fn simulate(
     if scene.effects.collisions {
         starts_apart(scene)?;
     }
-    let obstacle_boxes = scene
-        .obstacles
-        .iter()
-        .map(|o| {
-            if o.geometry.reach().is_finite() {
-                let pts: Vec<Vec3> = o
-                    .geometry
-                    .outline(1.0)
-                    .iter()
-                    .flat_map(|(a, b)| [*a, *b])
-                    .map(|p| (o.pose * nalgebra::Point3::from(p)).coords)
-                    .collect();
-                let lo = pts
-                    .iter()
-                    .fold(Vec3::repeat(f64::INFINITY), |a, p| a.inf(p));
-                let hi = pts
-                    .iter()
-                    .fold(Vec3::repeat(f64::NEG_INFINITY), |a, p| a.sup(p));
-                Some((lo, hi))
-            } else {
-                None
-            }
-        })
-        .collect();
+    let obstacle_bounds: Vec<ObstacleBound> =
+        scene.obstacles.iter().map(ObstacleBound::of).collect();
     let root = scene.accuracy.root_tol;
     let mut sim = Sim {
         scene,
@@ -319,7 +299,7 @@ pub fn simulate(
             })
             .collect(),
         pairs,
-        obstacle_boxes,
+        obstacle_bounds,
         obstacles: scene
             .obstacles
             .iter()
@@ -709,10 +689,7 @@ impl Sim<'_> {
             .filter(|&k| match self.pairs[k].b {
                 Party::Obstacle(o) => {
                     let a = self.pairs[k].a;
-                    !self.traj.supported_by(a, t0, o)
-                        && self.obstacle_boxes[o]
-                            .as_ref()
-                            .is_none_or(|b| overlap(&boxes[a], b))
+                    !self.traj.supported_by(a, t0, o) && self.obstacle_bounds[o].may_meet(&boxes[a])
                 }
                 Party::Body(_) => false,
             })
