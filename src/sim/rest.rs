@@ -187,11 +187,11 @@ pub(crate) fn slower_than(scene: &Scene, body: usize, s: &BodyState, limit: f64)
     let (v, w) = (back * s.v, back * s.w);
     let spin = w.norm();
     scene.bodies[body].geometry.parts.iter().all(|p| {
-        let (rot, t) = (p.offset.rotation, p.offset.translation.vector);
+        let (to_part, t) = (p.offset.rotation.inverse(), p.offset.translation.vector);
         match &p.kind {
             PartKind::Ball { radius } => (v + w.cross(&t)).norm() + spin * radius < limit,
             PartKind::Convex { vertices, .. } => {
-                let (vp, wp) = (rot.inverse() * (v + w.cross(&t)), rot.inverse() * w);
+                let (vp, wp) = (to_part * (v + w.cross(&t)), to_part * w);
                 vertices.iter().all(|y| (vp + wp.cross(y)).norm() < limit)
             }
             _ => true,

@@ -654,9 +654,6 @@ impl Sim<'_> {
                 }
             })
             .collect();
-        let overlap = |a: &(Vec3, Vec3), b: &(Vec3, Vec3)| {
-            (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k])
-        };
         let frozen: Vec<bool> = (0..n).map(|i| self.frozen(i)).collect();
         // Sweep and prune on x for body–body pairs (not quadratic in N).
         let mut order: Vec<usize> = (0..n).collect();
@@ -669,7 +666,7 @@ impl Sim<'_> {
                 let key = (i.min(j), i.max(j));
                 // Two frozen bodies never meet: their pair is not searched.
                 if let Some(&k) = self.body_pairs.get(&key)
-                    && overlap(&boxes[i], &boxes[j])
+                    && bound::overlap(&boxes[i], &boxes[j])
                     && !(frozen[i] && frozen[j])
                 {
                     close.push(k);

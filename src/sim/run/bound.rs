@@ -47,7 +47,7 @@ impl ObstacleBound {
     /// normal is not above it.
     pub(super) fn may_meet(&self, (lo, hi): &(Vec3, Vec3)) -> bool {
         match self {
-            ObstacleBound::Box(a, b) => (0..3).all(|k| lo[k] <= b[k] && a[k] <= hi[k]),
+            ObstacleBound::Box(a, b) => overlap(&(*lo, *hi), &(*a, *b)),
             ObstacleBound::Plane(n, level) => {
                 let (centre, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
                 n.dot(&centre) - n.abs().dot(&half) <= *level
@@ -55,6 +55,11 @@ impl ObstacleBound {
             ObstacleBound::Unbounded => true,
         }
     }
+}
+
+/// Whether two boxes (corners) overlap.
+pub(super) fn overlap(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> bool {
+    (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k])
 }
 
 #[cfg(test)]
